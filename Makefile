@@ -1,0 +1,54 @@
+# The two front-door commands: `make demo` and `make test`. Both install the Debian
+# packages they need, build the package in a catkin workspace inside the repository
+# (.ws/, git-ignored) and run with Debian's python3 (the pyenv one on PATH cannot see ROS).
+SHELL := /bin/bash
+.SHELLFLAGS := -eo pipefail -c
+
+PKG := ohm_mirror_detector3d
+WS := $(CURDIR)/.ws
+export PATH := /usr/bin:/bin:$(PATH)
+export ROS_HOME := $(WS)/.ros
+export ROS_HOSTNAME := 127.0.0.1
+export ROS_LOG_DIR := $(WS)/.ros/log
+BUILD_TYPE ?= Release
+
+APT_PACKAGES := build-essential cmake ros-base-dev libpcl-dev libpcl-conversions-dev \
+  libtf2-ros-dev libtf2-eigen-dev python3-rostest python3-dynamic-reconfigure \
+  python3-sensor-msgs python3-geometry-msgs python3-visualization-msgs python3-tf2-ros \
+  python3-numpy python3-matplotlib python3-pytest libgtest-dev rosbash tf2-tools
+
+SOURCE_WS := source $(WS)/devel/setup.bash
+
+.PHONY: all deps build test demo clean
+all: build
+
+# Installs only what is missing, so a prepared machine pays one dpkg-query.
+deps:
+	@missing=$$(for p in $(APT_PACKAGES); do \
+	    dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:" $$missing; \
+	  sudo=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$sudo apt-get update -qq; \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+build: deps
+	@mkdir -p $(WS)/src $(WS)/devel/lib/python3/dist-packages $(ROS_LOG_DIR)
+	@ln -sfn $(CURDIR) $(WS)/src/$(PKG)
+	cd $(WS) && catkin_make all tests -j2 -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
+	  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
+	  -DCATKIN_ENABLE_TESTING=ON > $(WS)/build.log 2>&1 || { tail -n 60 $(WS)/build.log; exit 1; }
+	@echo "built $(PKG) in $(WS) (log: $(WS)/build.log)"
+
+# ctest, not `catkin_make run_tests`: the latter exits 0 when tests fail.
+test: build
+	$(SOURCE_WS) && cd $(WS)/build && ctest --output-on-failure
+
+demo: build
+	$(SOURCE_WS) && port=$$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])') && \
+	  export ROS_MASTER_URI=http://127.0.0.1:$$port && \
+	  roslaunch -p $$port --screen $(PKG) demo.launch
+
+clean:
+	rm -rf $(WS)

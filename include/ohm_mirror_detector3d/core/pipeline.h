@@ -1,0 +1,43 @@
+// The pre-filter of one sweep (Algorithm 1 of the paper): composes the stages and owns
+// their buffers, which it reuses from sweep to sweep.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/cleaned_output.h"
+#include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/sweep.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+struct PipelineResult
+{
+  SweepLabels labels;
+  std::vector<OutputPoint> cleaned;
+  std::size_t range_gated_points = 0;    // labelled nanPoint by the range gate
+  std::size_t error_surface_points = 0;  // n_affected of the echo comparison
+};
+
+class Pipeline
+{
+public:
+  // Throws std::invalid_argument naming every bad value when params.validate() fails.
+  explicit Pipeline(const Params& params = Params());
+
+  // Same check as the constructor; on failure the previous parameters stay in force.
+  void setParams(const Params& params);
+  const Params& params() const { return params_; }
+
+  // Runs every stage on the sweep. The result is valid until the next call.
+  const PipelineResult& process(const Sweep& sweep);
+
+private:
+  Params params_;
+  PipelineResult result_;
+};
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

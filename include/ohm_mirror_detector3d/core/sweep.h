@@ -1,0 +1,56 @@
+// One sweep of a multi-echo scanner: a grid of beams with two index-aligned echoes.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/labels.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+// One echo of every beam, structure of arrays so that a stage touching only
+// ranges does not drag positions through the cache.
+struct EchoCloud
+{
+  std::vector<Eigen::Vector3f> points;  // in the sweep frame; non-finite when there is no return
+  std::vector<float> ranges;            // distance to the sweep's origin, NaN when no return
+  std::vector<float> intensities;       // NaN when the input had none
+
+  std::size_t size() const { return points.size(); }
+};
+
+// Beams on a grid of rows x cols, beam index = row * cols + col (row-major, as an
+// organised PointCloud2). Echo k of beam i is echoes[k].points[i]; the two echoes of a
+// beam may arrive in either order (the stages sort it out by range).
+struct Sweep
+{
+  std::size_t rows = 0;
+  std::size_t cols = 0;
+  Eigen::Vector3f origin = Eigen::Vector3f::Zero();  // scanner optical centre in the sweep frame
+  bool has_intensity = false;
+  std::array<EchoCloud, 2> echoes;
+
+  std::size_t beamCount() const { return rows * cols; }
+
+  // Sizes every array for rows x cols beams; keeps capacity, so a reused sweep does not allocate.
+  void resize(std::size_t new_rows, std::size_t new_cols);
+
+  // Fills ranges from points and origin (NaN for non-finite points).
+  void computeRanges();
+};
+
+// Labels of both echoes, index-aligned with the sweep.
+struct SweepLabels
+{
+  std::array<std::vector<Label>, 2> echoes;
+
+  void reset(std::size_t beam_count, Label value = Label::unchecked);
+  std::size_t count(int echo, Label label) const;
+};
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

@@ -1,0 +1,38 @@
+// Conversions between ROS messages and the core's plain types.
+#pragma once
+
+#include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
+
+#include <string>
+#include <vector>
+
+#include "ohm_mirror_detector3d/EchoPair.h"
+#include "ohm_mirror_detector3d/core/cleaned_output.h"
+#include "ohm_mirror_detector3d/core/sweep.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace ros_io
+{
+// Reads the x, y, z (float32) and optional numeric `intensity` fields of every point of
+// `cloud` into `echo`, in row-major order. Returns an empty string on success, otherwise
+// what is wrong with the cloud (missing or mistyped field, inconsistent sizes, ...);
+// `echo` is then unspecified. Sets `has_intensity` to whether the cloud had intensities.
+std::string readEchoCloud(const sensor_msgs::PointCloud2& cloud, core::EchoCloud& echo, bool& has_intensity);
+
+// Fills `sweep` (rows = height, cols = width of echo1) from an EchoPair whose clouds
+// are in the scanner frame. Returns an empty string on success, otherwise the problem.
+std::string echoPairToSweep(const EchoPair& pair, core::Sweep& sweep);
+
+// Every point of both echoes (echo 1 first, then echo 2, each in beam order), fields
+// x y z intensity label echo beam, positions as measured.
+void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, const core::SweepLabels& labels,
+                     sensor_msgs::PointCloud2& cloud);
+
+// The points for mapping, same fields as the labelled cloud.
+void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::OutputPoint>& points,
+                    sensor_msgs::PointCloud2& cloud);
+
+}  // namespace ros_io
+}  // namespace ohm_mirror_detector3d

@@ -1,0 +1,28 @@
+#include "ohm_mirror_detector3d/core/cleaned_output.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+void collectCleaned(const Sweep& sweep, const SweepLabels& labels, std::vector<OutputPoint>& cleaned)
+{
+  cleaned.clear();
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t i = 0; i < beams; ++i)
+  {
+    for (std::size_t k = 0; k < 2; ++k)
+    {
+      const Label label = labels.echoes[k][i];
+      if (!keptInCleaned(label))
+        continue;
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      if (k == 1 && p == sweep.echoes[0].points[i] && keptInCleaned(labels.echoes[0][i]))
+        continue;
+      cleaned.push_back(OutputPoint{ p, sweep.echoes[k].intensities[i], label, static_cast<std::uint8_t>(k + 1),
+                                     static_cast<std::uint32_t>(i) });
+    }
+  }
+}
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

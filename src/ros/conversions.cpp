@@ -1,0 +1,224 @@
+#include "ohm_mirror_detector3d/ros/conversions.h"
+
+#include <sensor_msgs/PointField.h>
+
+#include <cstring>
+#include <limits>
+
+namespace ohm_mirror_detector3d
+{
+namespace ros_io
+{
+namespace
+{
+using sensor_msgs::PointField;
+
+const PointField* findField(const sensor_msgs::PointCloud2& cloud, const std::string& name)
+{
+  for (const PointField& field : cloud.fields)
+    if (field.name == name)
+      return &field;
+  return nullptr;
+}
+
+std::size_t fieldSize(std::uint8_t datatype)
+{
+  switch (datatype)
+  {
+    case PointField::INT8:
+    case PointField::UINT8: return 1;
+    case PointField::INT16:
+    case PointField::UINT16: return 2;
+    case PointField::INT32:
+    case PointField::UINT32:
+    case PointField::FLOAT32: return 4;
+    case PointField::FLOAT64: return 8;
+    default: return 0;
+  }
+}
+
+template <typename T>
+float readAs(const std::uint8_t* data)
+{
+  T value;
+  std::memcpy(&value, data, sizeof(T));
+  return static_cast<float>(value);
+}
+
+float readNumber(const std::uint8_t* data, std::uint8_t datatype)
+{
+  switch (datatype)
+  {
+    case PointField::INT8: return readAs<std::int8_t>(data);
+    case PointField::UINT8: return readAs<std::uint8_t>(data);
+    case PointField::INT16: return readAs<std::int16_t>(data);
+    case PointField::UINT16: return readAs<std::uint16_t>(data);
+    case PointField::INT32: return readAs<std::int32_t>(data);
+    case PointField::UINT32: return readAs<std::uint32_t>(data);
+    case PointField::FLOAT32: return readAs<float>(data);
+    default: return readAs<double>(data);
+  }
+}
+
+std::string checkField(const PointField* field, const std::string& name, std::uint32_t point_step, bool float32_only)
+{
+  if (field == nullptr)
+    return "has no '" + name + "' field";
+  if (float32_only && field->datatype != PointField::FLOAT32)
+    return "field '" + name + "' has datatype " + std::to_string(field->datatype) + ", expected FLOAT32 (7)";
+  const std::size_t size = fieldSize(field->datatype);
+  if (size == 0)
+    return "field '" + name + "' has unknown datatype " + std::to_string(field->datatype);
+  if (field->offset + size > point_step)
+    return "field '" + name + "' at offset " + std::to_string(field->offset) + " does not fit in point_step " +
+           std::to_string(point_step);
+  return "";
+}
+
+void appendField(sensor_msgs::PointCloud2& cloud, const std::string& name, std::uint32_t offset, std::uint8_t datatype)
+{
+  PointField field;
+  field.name = name;
+  field.offset = offset;
+  field.datatype = datatype;
+  field.count = 1;
+  cloud.fields.push_back(field);
+}
+
+// Layout shared by the labelled and the cleaned cloud.
+constexpr std::uint32_t kOffsetIntensity = 12;
+constexpr std::uint32_t kOffsetLabel = 16;
+constexpr std::uint32_t kOffsetEcho = 17;
+constexpr std::uint32_t kOffsetBeam = 20;
+constexpr std::uint32_t kOutputPointStep = 24;
+
+void prepareOutputCloud(const std_msgs::Header& header, std::size_t points, sensor_msgs::PointCloud2& cloud)
+{
+  cloud.header = header;
+  cloud.height = 1;
+  cloud.width = static_cast<std::uint32_t>(points);
+  cloud.is_bigendian = false;
+  cloud.is_dense = false;
+  cloud.point_step = kOutputPointStep;
+  cloud.row_step = kOutputPointStep * cloud.width;
+  cloud.fields.clear();
+  appendField(cloud, "x", 0, PointField::FLOAT32);
+  appendField(cloud, "y", 4, PointField::FLOAT32);
+  appendField(cloud, "z", 8, PointField::FLOAT32);
+  appendField(cloud, "intensity", kOffsetIntensity, PointField::FLOAT32);
+  appendField(cloud, "label", kOffsetLabel, PointField::UINT8);
+  appendField(cloud, "echo", kOffsetEcho, PointField::UINT8);
+  appendField(cloud, "beam", kOffsetBeam, PointField::UINT32);
+  cloud.data.assign(static_cast<std::size_t>(cloud.row_step), 0);
+}
+
+void writePoint(std::uint8_t* out, const Eigen::Vector3f& position, float intensity, core::Label label,
+                std::uint8_t echo, std::uint32_t beam)
+{
+  std::memcpy(out, position.data(), 3 * sizeof(float));
+  std::memcpy(out + kOffsetIntensity, &intensity, sizeof(float));
+  out[kOffsetLabel] = static_cast<std::uint8_t>(label);
+  out[kOffsetEcho] = echo;
+  std::memcpy(out + kOffsetBeam, &beam, sizeof(beam));
+}
+}  // namespace
+
+std::string readEchoCloud(const sensor_msgs::PointCloud2& cloud, core::EchoCloud& echo, bool& has_intensity)
+{
+  if (cloud.is_bigendian)
+    return "is big-endian, which is not supported";
+  const std::size_t points = static_cast<std::size_t>(cloud.width) * cloud.height;
+  if (points > 0 && cloud.row_step < static_cast<std::uint64_t>(cloud.width) * cloud.point_step)
+    return "row_step " + std::to_string(cloud.row_step) + " is smaller than width * point_step = " +
+           std::to_string(static_cast<std::uint64_t>(cloud.width) * cloud.point_step);
+  const std::uint64_t expected_bytes = static_cast<std::uint64_t>(cloud.row_step) * cloud.height;
+  if (points > 0 && cloud.data.size() != expected_bytes)
+    return "data holds " + std::to_string(cloud.data.size()) + " bytes but height * row_step = " +
+           std::to_string(expected_bytes);
+  const PointField* x = findField(cloud, "x");
+  const PointField* y = findField(cloud, "y");
+  const PointField* z = findField(cloud, "z");
+  for (const auto& named : { std::make_pair(x, "x"), std::make_pair(y, "y"), std::make_pair(z, "z") })
+  {
+    const std::string problem = checkField(named.first, named.second, cloud.point_step, true);
+    if (!problem.empty())
+      return problem;
+  }
+  const PointField* intensity = findField(cloud, "intensity");
+  if (intensity != nullptr && !checkField(intensity, "intensity", cloud.point_step, false).empty())
+    return checkField(intensity, "intensity", cloud.point_step, false);
+  has_intensity = intensity != nullptr;
+
+  echo.points.resize(points);
+  echo.ranges.resize(points);
+  echo.intensities.resize(points);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::size_t i = 0;
+  for (std::uint32_t row = 0; row < cloud.height; ++row)
+  {
+    const std::uint8_t* point = cloud.data.data() + static_cast<std::size_t>(row) * cloud.row_step;
+    for (std::uint32_t col = 0; col < cloud.width; ++col, ++i, point += cloud.point_step)
+    {
+      Eigen::Vector3f& p = echo.points[i];
+      std::memcpy(&p.x(), point + x->offset, sizeof(float));
+      std::memcpy(&p.y(), point + y->offset, sizeof(float));
+      std::memcpy(&p.z(), point + z->offset, sizeof(float));
+      echo.intensities[i] = intensity != nullptr ? readNumber(point + intensity->offset, intensity->datatype) : nan;
+    }
+  }
+  return "";
+}
+
+std::string echoPairToSweep(const EchoPair& pair, core::Sweep& sweep)
+{
+  const std::uint64_t size1 = static_cast<std::uint64_t>(pair.echo1.width) * pair.echo1.height;
+  const std::uint64_t size2 = static_cast<std::uint64_t>(pair.echo2.width) * pair.echo2.height;
+  if (size1 != size2)
+    return "echo1 has " + std::to_string(size1) + " points but echo2 has " + std::to_string(size2) +
+           "; the echoes must be index-aligned";
+  bool intensity1 = false;
+  bool intensity2 = false;
+  std::string problem = readEchoCloud(pair.echo1, sweep.echoes[0], intensity1);
+  if (!problem.empty())
+    return "echo1 " + problem;
+  problem = readEchoCloud(pair.echo2, sweep.echoes[1], intensity2);
+  if (!problem.empty())
+    return "echo2 " + problem;
+  sweep.rows = pair.echo1.height;
+  sweep.cols = pair.echo1.width;
+  sweep.has_intensity = intensity1 && intensity2;
+  sweep.origin.setZero();
+  sweep.computeRanges();
+  return "";
+}
+
+void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, const core::SweepLabels& labels,
+                     sensor_msgs::PointCloud2& cloud)
+{
+  const std::size_t beams = sweep.beamCount();
+  prepareOutputCloud(header, 2 * beams, cloud);
+  std::uint8_t* out = cloud.data.data();
+  for (std::size_t k = 0; k < 2; ++k)
+  {
+    const core::EchoCloud& echo = sweep.echoes[k];
+    for (std::size_t i = 0; i < beams; ++i, out += kOutputPointStep)
+      writePoint(out, echo.points[i], echo.intensities[i], labels.echoes[k][i], static_cast<std::uint8_t>(k + 1),
+                 static_cast<std::uint32_t>(i));
+  }
+}
+
+void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::OutputPoint>& points,
+                    sensor_msgs::PointCloud2& cloud)
+{
+  prepareOutputCloud(header, points.size(), cloud);
+  cloud.is_dense = true;
+  std::uint8_t* out = cloud.data.data();
+  for (const core::OutputPoint& point : points)
+  {
+    writePoint(out, point.position, point.intensity, point.label, point.echo, point.beam);
+    out += kOutputPointStep;
+  }
+}
+
+}  // namespace ros_io
+}  // namespace ohm_mirror_detector3d
