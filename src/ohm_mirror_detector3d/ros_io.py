@@ -1,0 +1,252 @@
+"""ROS I/O of the simulator and the evaluator: numpy <-> messages, bags, a live sweep publisher.
+
+This is the only module that imports ROS (rospy, rosbag, sensor_msgs, the
+package's generated messages); everything else works on numpy arrays.
+
+PointCloud2 <-> numpy goes through structured arrays whose field names are
+the cloud's field names (`array_to_cloud`, `cloud_to_array`), so the echo
+clouds, the ground truth and the filter's `labelled`/`cleaned` all use the
+same two functions.
+"""
+import numpy as np
+
+import rospy
+from geometry_msgs.msg import Point
+from sensor_msgs.msg import PointCloud2, PointField
+from std_msgs.msg import Header
+
+from ohm_mirror_detector3d.msg import EchoPair, ReflectiveObject, ReflectiveObjectArray
+
+from .labels import Label
+from .simulate import GROUND_TRUTH_DTYPE, physical_return_mask
+
+_TO_ROS = {np.dtype('int8'): PointField.INT8, np.dtype('uint8'): PointField.UINT8,
+           np.dtype('int16'): PointField.INT16, np.dtype('uint16'): PointField.UINT16,
+           np.dtype('int32'): PointField.INT32, np.dtype('uint32'): PointField.UINT32,
+           np.dtype('float32'): PointField.FLOAT32, np.dtype('float64'): PointField.FLOAT64}
+_FROM_ROS = {v: k for k, v in _TO_ROS.items()}
+
+# Topic names (relative: resolved in the node's namespace, or written as /NAME into bags).
+TOPIC_ECHO_PAIR, TOPIC_ECHO1, TOPIC_ECHO2 = 'echo_pair', 'echo1', 'echo2'
+TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS = 'ground_truth', 'ground_truth_objects'
+FILTER_OUTPUTS = ('labelled', 'cleaned', 'objects')
+
+
+def make_header(stamp, frame_id):
+    h = Header()
+    h.stamp = stamp if isinstance(stamp, rospy.Time) else rospy.Time.from_sec(float(stamp))
+    h.frame_id = frame_id
+    return h
+
+
+def array_to_cloud(array, header, height=1, width=None):
+    """A PointCloud2 holding a 1-D structured array (little endian, one point per element).
+
+    height/width: organised layout (height * width == len(array)); default unorganised (1 x n).
+    """
+    array = np.ascontiguousarray(array)
+    width = len(array) // height if width is None else width
+    if height * width != len(array):
+        raise ValueError('height * width = %d != %d points' % (height * width, len(array)))
+    msg = PointCloud2()
+    msg.header = header
+    msg.height, msg.width = height, width
+    for name in array.dtype.names:
+        dt, offset = array.dtype.fields[name][:2]
+        if dt.base.newbyteorder('<') not in _TO_ROS:
+            raise TypeError('field %s: unsupported type %s' % (name, dt))
+        count = int(np.prod(dt.shape)) if dt.shape else 1
+        msg.fields.append(PointField(name=name, offset=offset, datatype=_TO_ROS[dt.base.newbyteorder('<')],
+                                     count=count))
+    msg.is_bigendian = False
+    msg.point_step = array.dtype.itemsize
+    msg.row_step = msg.point_step * width
+    msg.data = array.astype(array.dtype.newbyteorder('<')).tobytes()
+    has_xyz = all(f in array.dtype.names for f in 'xyz')
+    msg.is_dense = bool(not has_xyz or np.isfinite(np.stack([array['x'], array['y'], array['z']])).all())
+    return msg
+
+
+def cloud_to_array(msg, fields=None):
+    """The points of a PointCloud2 as a packed 1-D structured array (row-major for organised clouds).
+
+    fields: optional list of field names to keep (KeyError if one is missing).
+    """
+    order = '>' if msg.is_bigendian else '<'
+    names, formats, offsets = [], [], []
+    for f in msg.fields:
+        if f.datatype not in _FROM_ROS:
+            continue
+        base = _FROM_ROS[f.datatype].newbyteorder(order)
+        names.append(f.name)
+        formats.append(base if f.count <= 1 else (base, (f.count,)))
+        offsets.append(f.offset)
+    dtype = np.dtype({'names': names, 'formats': formats, 'offsets': offsets, 'itemsize': msg.point_step})
+    n = msg.width * msg.height
+    if msg.row_step == msg.point_step * msg.width:
+        raw = np.frombuffer(bytes(msg.data), dtype=dtype, count=n)
+    else:  # padded rows
+        buf = np.frombuffer(bytes(msg.data), np.uint8).reshape(msg.height, msg.row_step)
+        raw = np.frombuffer(buf[:, :msg.point_step * msg.width].tobytes(), dtype=dtype, count=n)
+    keep = list(fields) if fields is not None else names
+    missing = [k for k in keep if k not in names]
+    if missing:
+        raise KeyError('cloud has no field(s) %s (has %s)' % (missing, names))
+    out = np.empty(n, [(k, raw.dtype.fields[k][0].newbyteorder('=')) for k in keep])
+    for k in keep:
+        out[k] = raw[k]
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Objects
+
+def objects_to_msg(objects, header):
+    """ReflectiveObjectArray from object dicts (id, type, corners (4,3), width, height, plane; optional counts)."""
+    msg = ReflectiveObjectArray()
+    msg.header = header
+    for o in objects:
+        m = ReflectiveObject()
+        m.id = int(o.get('id', len(msg.objects)))
+        m.type = int(o.get('type', ReflectiveObject.TYPE_UNKNOWN))
+        m.corners = [Point(*map(float, c)) for c in np.asarray(o['corners'], float).reshape(4, 3)]
+        m.width, m.height = float(o['width']), float(o['height'])
+        m.plane = [float(x) for x in o['plane']]
+        for key in ('surface_points', 'behind_points', 'mirrored_points', 'matched_points'):
+            setattr(m, key, int(o.get(key, 0)))
+        m.inlier_fraction = float(o.get('inlier_fraction', 0.0))
+        m.icp_fitness = float(o.get('icp_fitness', 0.0))
+        m.icp_converged = bool(o.get('icp_converged', False))
+        m.icp_correction.rotation.w = 1.0
+        m.mean_surface_intensity = float(o.get('mean_surface_intensity', float('nan')))
+        msg.objects.append(m)
+    return msg
+
+
+def objects_from_msg(msg):
+    """Object dicts (as metrics.py expects them) from a ReflectiveObjectArray."""
+    out = []
+    for m in msg.objects:
+        out.append({
+            'id': int(m.id), 'type': int(m.type),
+            'corners': np.array([[c.x, c.y, c.z] for c in m.corners], float),
+            'width': float(m.width), 'height': float(m.height), 'plane': np.array(m.plane, float),
+            'surface_points': int(m.surface_points), 'behind_points': int(m.behind_points),
+            'mirrored_points': int(m.mirrored_points), 'matched_points': int(m.matched_points),
+            'inlier_fraction': float(m.inlier_fraction), 'icp_fitness': float(m.icp_fitness),
+            'icp_converged': bool(m.icp_converged), 'mean_surface_intensity': float(m.mean_surface_intensity),
+        })
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Sweeps
+
+def ground_truth_objects(sweep):
+    """The sweep's objects with the ground-truth point counts filled in."""
+    gt = sweep.ground_truth
+    real = physical_return_mask(gt)
+    intensity = np.r_[sweep.echo1['intensity'], sweep.echo2['intensity']]
+    out = []
+    for o in sweep.objects:
+        mine = (gt['object_id'] == o['id']) & real
+        surface = mine & np.isin(gt['label'], [Label.REFLECTIVE_SURFACE, Label.TRANSPARENT_SURFACE])
+        behind = mine & np.isin(gt['label'], [Label.BEHIND_REFLECTIVE, Label.BEHIND_TRANSPARENT])
+        d = dict(o)
+        d['surface_points'] = int(surface.sum())
+        d['behind_points'] = int(behind.sum())
+        d['mean_surface_intensity'] = float(intensity[surface].mean()) if surface.any() else float('nan')
+        out.append(d)
+    return out
+
+
+def sweep_to_messages(sweep, stamp, frame_id=None):
+    """Messages of one sweep, keyed by topic name: echo_pair, echo1, echo2, ground_truth, ground_truth_objects.
+
+    All share one header (stamp, frame); echo clouds are organised rows x cols.
+    """
+    header = make_header(stamp, frame_id or sweep.frame_id)
+    echo1 = array_to_cloud(sweep.echo1, header, sweep.rows, sweep.cols)
+    echo2 = array_to_cloud(sweep.echo2, header, sweep.rows, sweep.cols)
+    pair = EchoPair(header=header, echo1=echo1, echo2=echo2)
+    return {
+        TOPIC_ECHO_PAIR: pair,
+        TOPIC_ECHO1: echo1,
+        TOPIC_ECHO2: echo2,
+        TOPIC_GROUND_TRUTH: array_to_cloud(sweep.ground_truth, header),
+        TOPIC_GROUND_TRUTH_OBJECTS: objects_to_msg(ground_truth_objects(sweep), header),
+    }
+
+
+def echo_pair_to_arrays(msg):
+    """(echo1, echo2) structured arrays (x y z intensity) of an EchoPair."""
+    return cloud_to_array(msg.echo1), cloud_to_array(msg.echo2)
+
+
+def ground_truth_from_cloud(msg):
+    """The ground-truth structured array (simulate.GROUND_TRUTH_DTYPE) from its PointCloud2."""
+    return cloud_to_array(msg, GROUND_TRUTH_DTYPE.names)
+
+
+def filter_output_from_msgs(labelled, cleaned, objects=None):
+    """{'labelled', 'cleaned', 'objects'} for metrics.evaluate_sweep from the filter's messages."""
+    fields = ['x', 'y', 'z', 'label', 'echo', 'beam']
+    return {
+        'labelled': cloud_to_array(labelled, fields),
+        'cleaned': cloud_to_array(cleaned, fields),
+        'objects': objects_from_msg(objects) if objects is not None else [],
+    }
+
+
+# ---------------------------------------------------------------------------------------------
+# Bags
+
+def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None, topic_prefix='/'):
+    """Writes sweeps to a bag (no master needed): topics prefix + echo_pair, echo1, echo2, ground_truth,
+    ground_truth_objects; sweep k is stamped start_time + k * period. Returns the stamps."""
+    import rosbag
+    stamps = []
+    with rosbag.Bag(path, 'w') as bag:
+        for k, sweep in enumerate(sweeps):
+            stamp = rospy.Time.from_sec(start_time + k * period)
+            for topic, msg in sweep_to_messages(sweep, stamp, frame_id).items():
+                bag.write(topic_prefix + topic, msg, stamp)
+            stamps.append(stamp)
+    return stamps
+
+
+def read_bag_by_stamp(path, topics):
+    """{topic: {header stamp (rospy.Time): message}} for the given topics of a bag."""
+    import rosbag
+    out = {t: {} for t in topics}
+    with rosbag.Bag(path) as bag:
+        for topic, msg, t in bag.read_messages(topics=list(topics)):
+            stamp = msg.header.stamp if hasattr(msg, 'header') else t
+            out[topic][stamp] = msg
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Live publishing
+
+class SweepPublisher:
+    """Publishes sweeps on echo_pair, echo1, echo2, ground_truth, ground_truth_objects (node namespace)."""
+
+    def __init__(self, queue_size=2, latch=False):
+        self.publishers = {
+            TOPIC_ECHO_PAIR: rospy.Publisher(TOPIC_ECHO_PAIR, EchoPair, queue_size=queue_size, latch=latch),
+            TOPIC_ECHO1: rospy.Publisher(TOPIC_ECHO1, PointCloud2, queue_size=queue_size, latch=latch),
+            TOPIC_ECHO2: rospy.Publisher(TOPIC_ECHO2, PointCloud2, queue_size=queue_size, latch=latch),
+            TOPIC_GROUND_TRUTH: rospy.Publisher(TOPIC_GROUND_TRUTH, PointCloud2, queue_size=queue_size,
+                                                latch=latch),
+            TOPIC_GROUND_TRUTH_OBJECTS: rospy.Publisher(TOPIC_GROUND_TRUTH_OBJECTS, ReflectiveObjectArray,
+                                                        queue_size=queue_size, latch=latch),
+        }
+
+    def publish(self, sweep, stamp=None, frame_id=None):
+        stamp = stamp if stamp is not None else rospy.Time.now()
+        msgs = sweep_to_messages(sweep, stamp, frame_id)
+        # Ground truth first, so an evaluator has it before the filter's outputs of this stamp.
+        for topic in (TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS, TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR):
+            self.publishers[topic].publish(msgs[topic])
+        return stamp
