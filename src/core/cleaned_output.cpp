@@ -4,7 +4,8 @@ namespace ohm_mirror_detector3d
 {
 namespace core
 {
-void collectCleaned(const Sweep& sweep, const SweepLabels& labels, std::vector<OutputPoint>& cleaned)
+void collectCleaned(const Sweep& sweep, const SweepLabels& labels, const std::vector<ReflectiveObject>& objects,
+                    const ObjectAssignment& assignment, std::vector<OutputPoint>& cleaned)
 {
   cleaned.clear();
   const std::size_t beams = sweep.beamCount();
@@ -18,8 +19,12 @@ void collectCleaned(const Sweep& sweep, const SweepLabels& labels, std::vector<O
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
       if (k == 1 && p == sweep.echoes[0].points[i] && keptInCleaned(labels.echoes[0][i]))
         continue;
-      cleaned.push_back(OutputPoint{ p, sweep.echoes[k].intensities[i], label, static_cast<std::uint8_t>(k + 1),
-                                     static_cast<std::uint32_t>(i) });
+      const Eigen::Vector3f position =
+          label == Label::behindReflective ?
+              objects.at(static_cast<std::size_t>(assignment.echoes[k][i])).reflect(p) :
+              p;
+      cleaned.push_back(OutputPoint{ position, sweep.echoes[k].intensities[i], label,
+                                     static_cast<std::uint8_t>(k + 1), static_cast<std::uint32_t>(i) });
     }
   }
 }

@@ -51,6 +51,11 @@ std::vector<std::string> Params::validate() const
   requireAtLeast(errors, "visionCone_threshold", "d_thres_visionCone", vision_cone_margin, 0.0, "m");
   requireAbove(errors, "max_Dist_ICP", "ICP max correspondence distance", icp_max_distance, 0.0, "m");
   requireAbove(errors, "fitness_Fct_ICP", "ICP fitness threshold", icp_fitness_threshold, 0.0, "m^2");
+  requireAtLeast(errors, "icp_min_points", "ICP minimum evidence", icp_min_points, 3, "points");
+  requireAbove(errors, "icp_min_inlier_fraction", "ICP minimum inlier fraction", icp_min_inlier_fraction, 0.0, "");
+  if (std::isfinite(icp_min_inlier_fraction) && icp_min_inlier_fraction > 1.0)
+    errors.push_back(describe("icp_min_inlier_fraction", "ICP minimum inlier fraction", icp_min_inlier_fraction) +
+                     " is out of range: must be in (0, 1]");
   return errors;
 }
 

@@ -1,6 +1,5 @@
 #include "ohm_mirror_detector3d/core/pipeline.h"
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -38,15 +37,22 @@ void Pipeline::setParams(const Params& params)
 
 const PipelineResult& Pipeline::process(const Sweep& sweep)
 {
-  SweepLabels& labels = result_.labels;
-  labels.reset(sweep.beamCount());
-  result_.range_gated_points = applyRangeGate(sweep, params_, labels);
-  result_.error_surface_points = compareEchoes(sweep, params_, labels);
-  // Whatever no stage claimed is unaffected by any surface.
-  for (std::vector<Label>& echo_labels : labels.echoes)
-    std::replace(echo_labels.begin(), echo_labels.end(), Label::unchecked, Label::valid);
-  collectCleaned(sweep, labels, result_.cleaned);
-  return result_;
+  PipelineResult& r = result_;
+  r.labels.reset(sweep.beamCount());
+  r.objects.clear();
+  r.range_gated_points = applyRangeGate(sweep, params_, r.labels);
+  r.outlier_points = outlier_filter_.apply(sweep, params_, Label::unchecked, r.labels);
+  r.error_surface_points = compareEchoes(sweep, params_, r.labels);
+  if (r.error_surface_points >= static_cast<std::size_t>(params_.min_object_points))
+  {
+    r.outlier_points += outlier_filter_.apply(sweep, params_, Label::errorSurface, r.labels);
+    object_extractor_.extract(sweep, params_, r.labels, r.objects);
+    for (ReflectiveObject& object : r.objects)
+      type_analyzer_.analyze(sweep, params_, r.labels, object);
+  }
+  labelByVisionCones(sweep, params_, r.objects, r.labels, r.assignment);
+  collectCleaned(sweep, r.labels, r.objects, r.assignment, r.cleaned);
+  return r;
 }
 
 }  // namespace core

@@ -2,6 +2,8 @@
 
 #include <sensor_msgs/PointField.h>
 
+#include <Eigen/Geometry>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -169,27 +171,33 @@ std::string readEchoCloud(const sensor_msgs::PointCloud2& cloud, core::EchoCloud
   return "";
 }
 
-std::string echoPairToSweep(const EchoPair& pair, core::Sweep& sweep)
+std::string echoCloudsToSweep(const sensor_msgs::PointCloud2& echo1, const sensor_msgs::PointCloud2& echo2,
+                              core::Sweep& sweep)
 {
-  const std::uint64_t size1 = static_cast<std::uint64_t>(pair.echo1.width) * pair.echo1.height;
-  const std::uint64_t size2 = static_cast<std::uint64_t>(pair.echo2.width) * pair.echo2.height;
+  const std::uint64_t size1 = static_cast<std::uint64_t>(echo1.width) * echo1.height;
+  const std::uint64_t size2 = static_cast<std::uint64_t>(echo2.width) * echo2.height;
   if (size1 != size2)
     return "echo1 has " + std::to_string(size1) + " points but echo2 has " + std::to_string(size2) +
            "; the echoes must be index-aligned";
   bool intensity1 = false;
   bool intensity2 = false;
-  std::string problem = readEchoCloud(pair.echo1, sweep.echoes[0], intensity1);
+  std::string problem = readEchoCloud(echo1, sweep.echoes[0], intensity1);
   if (!problem.empty())
     return "echo1 " + problem;
-  problem = readEchoCloud(pair.echo2, sweep.echoes[1], intensity2);
+  problem = readEchoCloud(echo2, sweep.echoes[1], intensity2);
   if (!problem.empty())
     return "echo2 " + problem;
-  sweep.rows = pair.echo1.height;
-  sweep.cols = pair.echo1.width;
+  sweep.rows = echo1.height;
+  sweep.cols = echo1.width;
   sweep.has_intensity = intensity1 && intensity2;
   sweep.origin.setZero();
   sweep.computeRanges();
   return "";
+}
+
+std::string echoPairToSweep(const EchoPair& pair, core::Sweep& sweep)
+{
+  return echoCloudsToSweep(pair.echo1, pair.echo2, sweep);
 }
 
 void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, const core::SweepLabels& labels,
@@ -217,6 +225,125 @@ void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::Outp
   {
     writePoint(out, point.position, point.intensity, point.label, point.echo, point.beam);
     out += kOutputPointStep;
+  }
+}
+
+}  // namespace ros_io
+}  // namespace ohm_mirror_detector3d
+
+namespace ohm_mirror_detector3d
+{
+namespace ros_io
+{
+namespace
+{
+geometry_msgs::Point toPoint(const Eigen::Vector3f& p)
+{
+  geometry_msgs::Point point;
+  point.x = p.x();
+  point.y = p.y();
+  point.z = p.z();
+  return point;
+}
+
+std_msgs::ColorRGBA colourOf(core::ObjectType type)
+{
+  std_msgs::ColorRGBA colour;
+  colour.a = 1.0f;
+  switch (type)
+  {
+    case core::ObjectType::mirror:  // blue
+      colour.r = 0.2f, colour.g = 0.4f, colour.b = 1.0f;
+      break;
+    case core::ObjectType::glass:  // turquoise, the paper's surface colour
+      colour.r = 0.25f, colour.g = 0.88f, colour.b = 0.82f;
+      break;
+    default:  // yellow: something reflects, type undecided
+      colour.r = 1.0f, colour.g = 0.8f, colour.b = 0.0f;
+  }
+  return colour;
+}
+}  // namespace
+
+void toObjectArray(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
+                   ReflectiveObjectArray& array)
+{
+  array.header = header;
+  array.objects.resize(objects.size());
+  for (std::size_t j = 0; j < objects.size(); ++j)
+  {
+    const core::ReflectiveObject& object = objects[j];
+    ReflectiveObject& out = array.objects[j];
+    out.id = object.id;
+    out.type = static_cast<std::uint8_t>(object.type);
+    const std::array<Eigen::Vector3f, 4> corners = object.corners();
+    for (std::size_t c = 0; c < 4; ++c)
+      out.corners[c] = toPoint(corners[c]);
+    out.width = object.width;
+    out.height = object.height;
+    for (int c = 0; c < 4; ++c)
+      out.plane[static_cast<std::size_t>(c)] = object.plane[c];
+    out.surface_points = static_cast<std::uint32_t>(object.surface_points);
+    out.behind_points = static_cast<std::uint32_t>(object.behind_points);
+    const core::TypeEvidence& evidence = object.evidence;
+    out.mirrored_points = static_cast<std::uint32_t>(evidence.mirrored_points);
+    out.matched_points = static_cast<std::uint32_t>(evidence.matched_points);
+    out.inlier_fraction = evidence.inlier_fraction;
+    out.icp_fitness = evidence.icp_fitness;
+    out.icp_converged = evidence.icp_converged;
+    const Eigen::Affine3f correction(evidence.icp_correction);
+    const Eigen::Quaternionf rotation(correction.rotation());
+    out.icp_correction.translation.x = correction.translation().x();
+    out.icp_correction.translation.y = correction.translation().y();
+    out.icp_correction.translation.z = correction.translation().z();
+    out.icp_correction.rotation.x = rotation.x();
+    out.icp_correction.rotation.y = rotation.y();
+    out.icp_correction.rotation.z = rotation.z();
+    out.icp_correction.rotation.w = rotation.w();
+    out.mean_surface_intensity = object.mean_surface_intensity;
+  }
+}
+
+void toMarkers(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
+               visualization_msgs::MarkerArray& markers)
+{
+  markers.markers.clear();
+  visualization_msgs::Marker clear;
+  clear.header = header;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  markers.markers.push_back(clear);
+  for (const core::ReflectiveObject& object : objects)
+  {
+    visualization_msgs::Marker outline;
+    outline.header = header;
+    outline.ns = "objects";
+    outline.id = static_cast<std::int32_t>(object.id);
+    outline.type = visualization_msgs::Marker::LINE_STRIP;
+    outline.action = visualization_msgs::Marker::ADD;
+    outline.pose.orientation.w = 1.0;
+    outline.scale.x = 0.02;
+    outline.color = colourOf(object.type);
+    const std::array<Eigen::Vector3f, 4> corners = object.corners();
+    for (const Eigen::Vector3f& corner : corners)
+      outline.points.push_back(toPoint(corner));
+    outline.points.push_back(toPoint(corners[0]));
+    markers.markers.push_back(outline);
+
+    visualization_msgs::Marker text;
+    text.header = header;
+    text.ns = "labels";
+    text.id = static_cast<std::int32_t>(object.id);
+    text.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    text.action = visualization_msgs::Marker::ADD;
+    text.pose.position = toPoint(object.centre + (0.5f * object.height + 0.1f) * object.height_axis);
+    text.pose.orientation.w = 1.0;
+    text.scale.z = 0.1;
+    text.color = colourOf(object.type);
+    char description[96];
+    std::snprintf(description, sizeof(description), "%s %u: %.1f x %.1f cm", core::objectTypeName(object.type),
+                  object.id, 100.0 * object.width, 100.0 * object.height);
+    text.text = description;
+    markers.markers.push_back(text);
   }
 }
 

@@ -7,7 +7,8 @@ namespace ros_io
 namespace
 {
 // One pipeline parameter: its name in the original launch file (also the name in
-// cfg/PreFilter.cfg), the paper's symbol, and the field of core::Params it sets.
+// cfg/PreFilter.cfg), the paper's symbol (nullptr when it has none), and the field of
+// core::Params it sets.
 struct ParamName
 {
   const char* ros_name;
@@ -27,6 +28,9 @@ const ParamName kParamNames[] = {
   { "visionCone_threshold", "d_thres_visionCone", &core::Params::vision_cone_margin, nullptr },
   { "max_Dist_ICP", "icp_max_distance", &core::Params::icp_max_distance, nullptr },
   { "fitness_Fct_ICP", "icp_fitness_threshold", &core::Params::icp_fitness_threshold, nullptr },
+  // Ours, not the paper's or the original launch file's: one name only.
+  { "icp_min_points", nullptr, nullptr, &core::Params::icp_min_points },
+  { "icp_min_inlier_fraction", nullptr, &core::Params::icp_min_inlier_fraction, nullptr },
 };
 
 // Reads `name` as T when present. Returns false and explains when it is present but not a T.
@@ -53,7 +57,8 @@ void readAliased(const ros::NodeHandle& nh, const ParamName& param, T& field, st
   bool has_ros_name = false;
   bool has_paper_name = false;
   const bool ok = readOne(nh, param.ros_name, by_ros_name, has_ros_name, errors) &
-                  readOne(nh, param.paper_name, by_paper_name, has_paper_name, errors);
+                  (param.paper_name == nullptr ||
+                   readOne(nh, param.paper_name, by_paper_name, has_paper_name, errors));
   if (!ok)
     return;
   if (has_ros_name && has_paper_name && by_ros_name != by_paper_name)
@@ -107,6 +112,8 @@ core::Params fromConfig(const PreFilterConfig& config)
   params.vision_cone_margin = config.visionCone_threshold;
   params.icp_max_distance = config.max_Dist_ICP;
   params.icp_fitness_threshold = config.fitness_Fct_ICP;
+  params.icp_min_points = config.icp_min_points;
+  params.icp_min_inlier_fraction = config.icp_min_inlier_fraction;
   return params;
 }
 

@@ -1,11 +1,13 @@
 #include "ohm_mirror_detector3d/ros/prefilter_nodelet.h"
 
 #include <pluginlib/class_list_macros.hpp>
+#include <visualization_msgs/MarkerArray.h>
 
+#include <algorithm>
 #include <stdexcept>
-#include <string>
 #include <vector>
 
+#include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
@@ -15,6 +17,10 @@ namespace
 {
 // Throttle period of the errors about bad input, so a broken driver cannot flood the log.
 constexpr double kErrorThrottleSeconds = 5.0;
+// A sweep is large and a late one is worth less than the next: keep few.
+constexpr std::uint32_t kInputQueueSize = 2;
+
+const char* const kInputModes[] = { "pair", "two_topics" };
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -22,6 +28,20 @@ std::string joinLines(const std::vector<std::string>& lines)
   for (const std::string& line : lines)
     joined += "\n  " + line;
   return joined;
+}
+
+// A topic under its current name, or under the name a legacy launch file gives it with
+// a `sub_*` / `pub_*` parameter (resolved like any relative name of the node).
+std::string topicName(const ros::NodeHandle& private_nh, const std::string& own_name,
+                      const std::vector<std::string>& legacy_params)
+{
+  for (const std::string& legacy : legacy_params)
+  {
+    std::string topic;
+    if (private_nh.getParam(legacy, topic) && !topic.empty())
+      return topic;
+  }
+  return private_nh.resolveName(own_name);
 }
 }  // namespace
 
@@ -33,10 +53,9 @@ void PreFilterNodelet::onInit()
   const core::Params params = ros_io::readParams(pnh, errors);
   const std::vector<std::string> range_errors = params.validate();
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
-  std::string input_mode = kInputModePair;
-  pnh.param<std::string>("input_mode", input_mode, input_mode);
-  if (input_mode != kInputModePair)
-    errors.push_back("input_mode '" + input_mode + "' is unknown: allowed values are 'pair'");
+  pnh.param<std::string>("input_mode", input_mode_, kInputModes[0]);
+  if (std::find(std::begin(kInputModes), std::end(kInputModes), input_mode_) == std::end(kInputModes))
+    errors.push_back("input_mode '" + input_mode_ + "' is unknown: allowed values are 'pair', 'two_topics'");
   if (!errors.empty())
   {
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);
@@ -45,40 +64,75 @@ void PreFilterNodelet::onInit()
   }
   pipeline_.setParams(params);
   ros_io::writeParams(pnh, params);
+  input_topic_ = topicName(pnh, "input", { "sub_input_scan" });
 
-  reconfigure_server_ =
-      std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
+  reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
       [this](PreFilterConfig& config, std::uint32_t level) { onReconfigure(config, level); });
 
-  // Outputs are advertised in the node's private namespace (~labelled, ~cleaned) like the
-  // input (~input), so several pre-filters can run side by side.
+  advertiseOutputs();
+  NODELET_INFO("pre-filter ready: input_mode %s, publishing %s, %s, %s, %s", input_mode_.c_str(),
+               labelled_pub_.getTopic().c_str(), cleaned_pub_.getTopic().c_str(), objects_pub_.getTopic().c_str(),
+               markers_pub_.getTopic().c_str());
+}
+
+void PreFilterNodelet::advertiseOutputs()
+{
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
   const ros::SubscriberStatusCallback on_connection = [this](const ros::SingleSubscriberPublisher&) {
     updateSubscription();
   };
   std::lock_guard<std::mutex> lock(subscription_mutex_);
-  labelled_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labelled", 1, on_connection, on_connection);
-  cleaned_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("cleaned", 1, on_connection, on_connection);
-  NODELET_INFO("pre-filter ready: input_mode %s, waiting for subscribers of %s or %s", input_mode.c_str(),
-               labelled_pub_.getTopic().c_str(), cleaned_pub_.getTopic().c_str());
+  labelled_pub_ = pnh.advertise<sensor_msgs::PointCloud2>(topicName(pnh, "labelled", { "pub_labelled" }), 1,
+                                                          on_connection, on_connection);
+  cleaned_pub_ = pnh.advertise<sensor_msgs::PointCloud2>(topicName(pnh, "cleaned", { "pub_cleaned", "pub_scan" }),
+                                                         1, on_connection, on_connection);
+  objects_pub_ = pnh.advertise<ReflectiveObjectArray>(topicName(pnh, "objects", { "pub_objects" }), 1,
+                                                      on_connection, on_connection);
+  markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>(topicName(pnh, "markers", { "pub_markers" }), 1,
+                                                                on_connection, on_connection);
 }
 
 void PreFilterNodelet::updateSubscription()
 {
   std::lock_guard<std::mutex> lock(subscription_mutex_);
-  const bool wanted = labelled_pub_.getNumSubscribers() > 0 || cleaned_pub_.getNumSubscribers() > 0;
-  if (wanted && !input_sub_)
+  const bool wanted = labelled_pub_.getNumSubscribers() > 0 || cleaned_pub_.getNumSubscribers() > 0 ||
+                      objects_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0;
+  if (wanted && !subscribed_)
+    subscribe();
+  else if (!wanted && subscribed_)
+    unsubscribe();
+}
+
+void PreFilterNodelet::subscribe()
+{
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  if (input_mode_ == "pair")
   {
-    // A queue of 2 sweeps: a sweep is large, and a late one is worth less than the next.
-    input_sub_ = getPrivateNodeHandle().subscribe<EchoPair>(
-        "input", 2, [this](const EchoPair::ConstPtr& pair) { onEchoPair(pair); });
-    NODELET_DEBUG("subscribed to %s", input_sub_.getTopic().c_str());
+    pair_sub_ = pnh.subscribe<EchoPair>(input_topic_, kInputQueueSize,
+                                        [this](const EchoPair::ConstPtr& pair) { onEchoPair(pair); });
   }
-  else if (!wanted && input_sub_)
+  else
   {
-    NODELET_DEBUG("no subscribers left, unsubscribing from %s", input_sub_.getTopic().c_str());
-    input_sub_.shutdown();
+    echo1_sub_.subscribe(pnh, "echo1", kInputQueueSize);
+    echo2_sub_.subscribe(pnh, "echo2", kInputQueueSize);
+    if (!echo_sync_)
+    {
+      echo_sync_ = std::make_unique<EchoSync>(echo1_sub_, echo2_sub_, kInputQueueSize * 2);
+      echo_sync_->registerCallback(&PreFilterNodelet::onEchoClouds, this);
+    }
   }
+  subscribed_ = true;
+  NODELET_DEBUG("an output has subscribers: subscribed to the input");
+}
+
+void PreFilterNodelet::unsubscribe()
+{
+  pair_sub_.shutdown();
+  echo1_sub_.unsubscribe();
+  echo2_sub_.unsubscribe();
+  subscribed_ = false;
+  NODELET_DEBUG("no output has subscribers: unsubscribed from the input");
 }
 
 void PreFilterNodelet::onReconfigure(PreFilterConfig& config, std::uint32_t /*level*/)
@@ -104,11 +158,25 @@ void PreFilterNodelet::onEchoPair(const EchoPair::ConstPtr& pair)
   const std::string problem = ros_io::echoPairToSweep(*pair, sweep_);
   if (!problem.empty())
   {
-    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds,
-                                  "dropping sweep on " << input_sub_.getTopic() << ": " << problem);
+    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
     return;
   }
   processAndPublish(pair->header);
+}
+
+void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& echo1,
+                                    const sensor_msgs::PointCloud2::ConstPtr& echo2)
+{
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  const std::string problem = ros_io::echoCloudsToSweep(*echo1, *echo2, sweep_);
+  if (!problem.empty())
+  {
+    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << echo1_sub_.getTopic() << " + "
+                                                                              << echo2_sub_.getTopic() << ": "
+                                                                              << problem);
+    return;
+  }
+  processAndPublish(echo1->header);
 }
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
@@ -125,6 +193,18 @@ void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
     sensor_msgs::PointCloud2Ptr cleaned(new sensor_msgs::PointCloud2);
     ros_io::toCleanedCloud(header, result.cleaned, *cleaned);
     cleaned_pub_.publish(cleaned);
+  }
+  if (objects_pub_.getNumSubscribers() > 0)
+  {
+    ReflectiveObjectArrayPtr objects(new ReflectiveObjectArray);
+    ros_io::toObjectArray(header, result.objects, *objects);
+    objects_pub_.publish(objects);
+  }
+  if (markers_pub_.getNumSubscribers() > 0)
+  {
+    visualization_msgs::MarkerArrayPtr markers(new visualization_msgs::MarkerArray);
+    ros_io::toMarkers(header, result.objects, *markers);
+    markers_pub_.publish(markers);
   }
 }
 

@@ -14,10 +14,12 @@ using test::ahead;
 using test::filled;
 using test::kNaN;
 
+// The fixtures have a handful of beams metres apart: every point must count as a neighbour.
 core::Params permissiveOutliers()
 {
   core::Params params;
   params.outlier_min_neighbors = 1;
+  params.outlier_radius = 100.0;
   return params;
 }
 
@@ -37,7 +39,8 @@ TEST(Pipeline, LabelsEveryPointOfBothEchoesAndNothingStaysUnchecked)
   const core::Sweep sweep = test::makeSweep(
       { { ahead(2.0f), ahead(3.5f) }, { ahead(4.0f), ahead(4.0f) }, { filled(kNaN), filled(kNaN) } });
   const core::PipelineResult& result = pipeline.process(sweep);
-  EXPECT_EQ(result.labels.echoes[0][0], Label::errorSurface);
+  // A discontinuity on no object: the near echo is a real surface, the far one is dropped.
+  EXPECT_EQ(result.labels.echoes[0][0], Label::valid);
   EXPECT_EQ(result.labels.echoes[1][0], Label::error);
   EXPECT_EQ(result.labels.echoes[0][1], Label::valid);
   EXPECT_EQ(result.labels.echoes[1][1], Label::valid);
@@ -55,10 +58,10 @@ TEST(Pipeline, CleanedDropsErrorAndNanPointsAndKeepsARepeatedSingleReturnOnce)
                         { filled(kNaN), ahead(6.0f) } });
   const std::vector<core::OutputPoint>& cleaned = pipeline.process(sweep).cleaned;
   ASSERT_EQ(cleaned.size(), 5u);
-  // Beam 0: surface echo kept, phantom (error) dropped.
+  // Beam 0: near echo kept, far echo (error) dropped.
   EXPECT_EQ(cleaned[0].beam, 0u);
   EXPECT_EQ(cleaned[0].echo, 1);
-  EXPECT_EQ(cleaned[0].label, Label::errorSurface);
+  EXPECT_EQ(cleaned[0].label, Label::valid);
   // Beam 1: the single return repeated in echo 2 appears once.
   EXPECT_EQ(cleaned[1].beam, 1u);
   EXPECT_EQ(cleaned[2].beam, 2u);
@@ -74,11 +77,13 @@ TEST(Pipeline, CleanedDropsErrorAndNanPointsAndKeepsARepeatedSingleReturnOnce)
 TEST(Pipeline, ReusesItsBuffersForSweepsOfDifferentSizes)
 {
   core::Pipeline pipeline(permissiveOutliers());
-  pipeline.process(test::makeSweep({ { ahead(2.0f), ahead(3.5f) }, { ahead(2.0f), ahead(3.5f) } }));
-  const core::PipelineResult& result = pipeline.process(test::makeSweep({ { ahead(4.0f), ahead(4.0f) } }));
-  EXPECT_EQ(result.labels.echoes[0].size(), 1u);
+  pipeline.process(test::makeSweep({ { ahead(2.0f), ahead(3.5f) }, { ahead(2.0f), ahead(3.5f) },
+                                     { ahead(2.0f), ahead(3.5f) } }));
+  const core::PipelineResult& result =
+      pipeline.process(test::makeSweep({ { ahead(4.0f), ahead(4.0f) }, { ahead(5.0f), ahead(5.0f) } }));
+  EXPECT_EQ(result.labels.echoes[0].size(), 2u);
   EXPECT_EQ(result.labels.echoes[0][0], Label::valid);
-  EXPECT_EQ(result.cleaned.size(), 1u);
+  EXPECT_EQ(result.cleaned.size(), 2u);
 }
 
 TEST(Pipeline, ProcessesAnEmptySweep)

@@ -68,6 +68,7 @@ class PairLabels(unittest.TestCase):
         kept = {(int(p['beam']), int(p['echo'])) for p in points}
         self.assertEqual(kept, {(0, 1), (1, 2), (2, 1), (3, 1), (6, 1), (6, 2)})
         self.assertNotIn(Label.ERROR, points['label'])
+        self.assertEqual(len(points), len(kept))
         self.assertNotIn(Label.NAN_POINT, points['label'])
         self.assertTrue(np.all(np.isfinite(points['x'])))
 

@@ -101,7 +101,7 @@ class Reconfigure(unittest.TestCase):
         self.assertEqual(self.first_beam_labels(), [Label.VALID, Label.VALID])
 
         self.client.update_configuration({'substract_threshold_distance': 0.05})
-        self.assertEqual(self.first_beam_labels(), [Label.ERROR_SURFACE, Label.ERROR])
+        self.assertEqual(self.first_beam_labels(), [Label.VALID, Label.ERROR])
 
 
 def all_tests():

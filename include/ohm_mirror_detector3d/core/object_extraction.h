@@ -1,6 +1,7 @@
 // Stage separateObject of the paper: planar objects from the errorSurface points.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/params.h"
@@ -28,6 +29,17 @@ public:
   // Deterministic: the same sweep gives the same objects. Clears `objects` first.
   void extract(const Sweep& sweep, const Params& params, const SweepLabels& labels,
                std::vector<ReflectiveObject>& objects);
+
+private:
+  // Buffers reused from call to call (PCL types included), defined in
+  // object_extraction.cpp so that includers of this header do not compile PCL. Made on
+  // the first call; the extractor is movable, not copyable.
+  struct Workspace;
+  struct WorkspaceDeleter
+  {
+    void operator()(Workspace* workspace) const;
+  };
+  std::unique_ptr<Workspace, WorkspaceDeleter> workspace_;
 };
 
 }  // namespace core

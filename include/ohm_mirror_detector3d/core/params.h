@@ -20,6 +20,8 @@ struct Params
   double vision_cone_margin = 0.05;     // d_thres_visionCone [m]: growth of an object's vision cone
   double icp_max_distance = 0.1;        // [m] max correspondence distance of the mirror test's ICP
   double icp_fitness_threshold = 0.005; // [m^2] mean squared ICP distance below which a plane is a mirror
+  int icp_min_points = 30;              // fewest points behind a plane (and real ones where they land) to decide its type
+  double icp_min_inlier_fraction = 0.5; // share of mirrored points that must land on the real scene for a mirror
 
   // One message per bad value, naming the parameter (ROS name and paper name), the
   // value and the allowed range; empty when every value is acceptable.

@@ -6,7 +6,12 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
+#include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/object_extraction.h"
+#include "ohm_mirror_detector3d/core/object_type.h"
+#include "ohm_mirror_detector3d/core/outlier_filter.h"
 #include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
 namespace ohm_mirror_detector3d
@@ -16,9 +21,12 @@ namespace core
 struct PipelineResult
 {
   SweepLabels labels;
+  ObjectAssignment assignment;             // object of each surface/behind point
+  std::vector<ReflectiveObject> objects;
   std::vector<OutputPoint> cleaned;
-  std::size_t range_gated_points = 0;    // labelled nanPoint by the range gate
-  std::size_t error_surface_points = 0;  // n_affected of the echo comparison
+  std::size_t range_gated_points = 0;      // labelled nanPoint by the range gate
+  std::size_t outlier_points = 0;          // labelled nanPoint by both outlier filter passes
+  std::size_t error_surface_points = 0;    // n_affected of the echo comparison
 };
 
 class Pipeline
@@ -36,6 +44,9 @@ public:
 
 private:
   Params params_;
+  OutlierFilter outlier_filter_;
+  ObjectExtractor object_extractor_;
+  ObjectTypeAnalyzer type_analyzer_;
   PipelineResult result_;
 };
 

@@ -7,7 +7,11 @@
 #include <string>
 #include <vector>
 
+#include <visualization_msgs/MarkerArray.h>
+
 #include "ohm_mirror_detector3d/EchoPair.h"
+#include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
+#include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
@@ -25,6 +29,10 @@ std::string readEchoCloud(const sensor_msgs::PointCloud2& cloud, core::EchoCloud
 // are in the scanner frame. Returns an empty string on success, otherwise the problem.
 std::string echoPairToSweep(const EchoPair& pair, core::Sweep& sweep);
 
+// Same from two index-aligned clouds (input mode two_topics).
+std::string echoCloudsToSweep(const sensor_msgs::PointCloud2& echo1, const sensor_msgs::PointCloud2& echo2,
+                              core::Sweep& sweep);
+
 // Every point of both echoes (echo 1 first, then echo 2, each in beam order), fields
 // x y z intensity label echo beam, positions as measured.
 void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, const core::SweepLabels& labels,
@@ -33,6 +41,14 @@ void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, c
 // The points for mapping, same fields as the labelled cloud.
 void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::OutputPoint>& points,
                     sensor_msgs::PointCloud2& cloud);
+
+void toObjectArray(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
+                   ReflectiveObjectArray& array);
+
+// A rectangle (line strip) per object coloured by type and a text with type and size,
+// preceded by a DELETEALL so that markers of objects that went away disappear.
+void toMarkers(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
+               visualization_msgs::MarkerArray& markers);
 
 }  // namespace ros_io
 }  // namespace ohm_mirror_detector3d

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <dynamic_reconfigure/server.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/time_synchronizer.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -9,6 +11,7 @@
 #include <boost/thread/recursive_mutex.hpp>
 #include <memory>
 #include <mutex>
+#include <string>
 
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
@@ -18,26 +21,39 @@ namespace ohm_mirror_detector3d
 {
 class PreFilterNodelet : public nodelet::Nodelet
 {
-public:
-  // Input modes this build understands (parameter `input_mode`).
-  static constexpr const char* kInputModePair = "pair";
-
 private:
+  using EchoSync = message_filters::TimeSynchronizer<sensor_msgs::PointCloud2, sensor_msgs::PointCloud2>;
+
   void onInit() override;
+  void advertiseOutputs();
 
   // Lazy subscription: the input is subscribed only while an output has a subscriber.
   void updateSubscription();
+  void subscribe();
+  void unsubscribe();
+
   void onEchoPair(const EchoPair::ConstPtr& pair);
+  void onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& echo1, const sensor_msgs::PointCloud2::ConstPtr& echo2);
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
   void processAndPublish(const std_msgs::Header& header);
 
+  std::string input_mode_;
+  std::string input_topic_;  // pair mode
+
   ros::Publisher labelled_pub_;
   ros::Publisher cleaned_pub_;
-  ros::Subscriber input_sub_;
+  ros::Publisher objects_pub_;
+  ros::Publisher markers_pub_;
+
   std::mutex subscription_mutex_;
+  bool subscribed_ = false;
+  ros::Subscriber pair_sub_;
+  message_filters::Subscriber<sensor_msgs::PointCloud2> echo1_sub_;
+  message_filters::Subscriber<sensor_msgs::PointCloud2> echo2_sub_;
+  std::unique_ptr<EchoSync> echo_sync_;
 
   // Guards the pipeline and the sweep buffer: reconfigure runs on another thread than
-  // the input callback.
+  // the input callbacks.
   std::mutex pipeline_mutex_;
   core::Pipeline pipeline_;
   core::Sweep sweep_;

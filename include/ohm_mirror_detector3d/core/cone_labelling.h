@@ -1,0 +1,37 @@
+// Stage cleanScanTuple of the paper: label every point by the objects' vision cones.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/reflective_object.h"
+#include "ohm_mirror_detector3d/core/sweep.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+// For each point of both echoes, the index of the object whose surface it lies on or
+// behind, or kNoObject.
+struct ObjectAssignment
+{
+  static constexpr std::int32_t kNoObject = -1;
+  std::array<std::vector<std::int32_t>, 2> echoes;
+
+  void reset(std::size_t beam_count);
+};
+
+// Labels every point that is not nanPoint: on the surface of an object (within
+// plane_threshold, inside its vision cone grown by vision_cone_margin) or behind it gets the
+// object's surface or behind label (errorSurface/behindErrorS, reflectiveSurface/
+// behindReflective, transparentSurface/behindTransparent by type). Where cones overlap the
+// surface nearest to the sensor wins. Points outside every cone (or in front of the
+// surface) become valid, except `error` points, which stay error. Fills each object's
+// surface_points, behind_points and mean_surface_intensity.
+void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<ReflectiveObject>& objects,
+                        SweepLabels& labels, ObjectAssignment& assignment);
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

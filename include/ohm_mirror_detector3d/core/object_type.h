@@ -1,0 +1,45 @@
+// Stage analyzeObjectType of the paper: mirror or glass, by registering the mirrored
+// points behind the plane to the real scene in front of it.
+#pragma once
+
+#include <memory>
+
+#include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/reflective_object.h"
+#include "ohm_mirror_detector3d/core/sweep.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+class ObjectTypeAnalyzer
+{
+public:
+  ObjectTypeAnalyzer();
+  ~ObjectTypeAnalyzer();
+  ObjectTypeAnalyzer(ObjectTypeAnalyzer&&) noexcept;
+  ObjectTypeAnalyzer& operator=(ObjectTypeAnalyzer&&) noexcept;
+
+  // Reflects the points behind the object (inside its vision cone, both echoes, nanPoint
+  // excluded) across its plane and registers them by ICP (max correspondence distance
+  // icp_max_distance) to the real points in front of the plane near where they land
+  // (labels unchecked or valid; error and errorSurface points are echoes of this or
+  // another surface, not real geometry). Sets object.type and object.evidence:
+  // - unknown when fewer than icp_min_points points are behind it, or when the sensor saw
+  //   fewer than that many real points in the directions where the mirrored points land
+  //   (nothing to compare with, e.g. a mirror facing open space: no confident decision);
+  // - mirror when ICP converged, at least icp_min_inlier_fraction of the mirrored points lie
+  //   within icp_max_distance of a real point after ICP, their mean squared distance is at
+  //   most icp_fitness_threshold, and ICP moved them only a little (a real mirror's phantoms
+  //   land on the real scene already: a large correction means ICP fitted something else);
+  // - glass otherwise: the sensor looked where the mirrored points land and saw something
+  //   else there (free space or other geometry).
+  void analyze(const Sweep& sweep, const Params& params, const SweepLabels& labels, ReflectiveObject& object);
+
+private:
+  struct Buffers;
+  std::unique_ptr<Buffers> buffers_;
+};
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

@@ -1,0 +1,478 @@
+// Object extraction (separateObject of the paper). Conventions of the objects made here:
+// - plane: least-squares (PCA) plane of the patch, unit normal towards sweep.origin;
+// - rectangle: minimum-area rectangle of the patch's points projected into that plane,
+//   each extent grown by the patch's typical sampling spacing (see buildObject);
+// - width_axis: the rectangle side with the smaller |z| (more horizontal); on a plane within
+//   10 deg of horizontal, the longer side;
+// - height_axis = normal x width_axis, so width_axis x height_axis = normal (right-handed);
+//   signs chosen so that height_axis points up (z > 0), or on a horizontal plane away from
+//   the sensor. Seen from the sensor, width runs to the right and height up, and
+//   ReflectiveObject::corners() go counter-clockwise.
+#include "ohm_mirror_detector3d/core/object_extraction.h"
+
+#include <pcl/PointIndices.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/sample_consensus/ransac.h>
+#include <pcl/sample_consensus/sac_model_plane.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+
+#include "ohm_mirror_detector3d/core/min_area_rectangle.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+namespace
+{
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+// pcl::Indices from PCL 1.11 on, std::vector<int> in PCL 1.10 (ROS Noetic).
+using IndexVector = decltype(pcl::PointIndices::indices);
+
+// Upper bound of RANSAC trials per plane. PCL stops earlier once a plane with the inlier
+// fraction found so far would have been drawn with probability 0.99; the bound only
+// matters when the remaining points are mostly off-plane clutter.
+constexpr int kRansacMaxIterations = 1000;
+
+// |n.z| above cos(10 deg): the plane counts as horizontal (floor or ceiling mirror), and
+// its longer side is the width.
+// Most points whose nearest neighbour is looked up to estimate a patch's spacing.
+constexpr std::size_t kSpacingSamples = 2048;
+
+const double kHorizontalNormalZ = 0.98480775301220806;  // cos(10 deg)
+
+struct Cell
+{
+  std::int32_t x, y, z;
+  std::uint32_t begin, end;  // range in Workspace::cell_points
+};
+
+struct CellPoint
+{
+  std::int32_t x, y, z;
+  std::uint32_t point;  // position in the plane's inlier list
+};
+
+bool cellLess(std::int32_t ax, std::int32_t ay, std::int32_t az, std::int32_t bx, std::int32_t by, std::int32_t bz)
+{
+  if (ax != bx)
+    return ax < bx;
+  if (ay != by)
+    return ay < by;
+  return az < bz;
+}
+
+// The 62 cell offsets in [-2, 2]^3 lexicographically after (0, 0, 0): every neighbouring
+// pair of cells is visited once.
+std::array<std::array<std::int32_t, 3>, 62> forwardOffsets()
+{
+  std::array<std::array<std::int32_t, 3>, 62> offsets{};
+  std::size_t k = 0;
+  for (std::int32_t dx = -2; dx <= 2; ++dx)
+    for (std::int32_t dy = -2; dy <= 2; ++dy)
+      for (std::int32_t dz = -2; dz <= 2; ++dz)
+        if (cellLess(0, 0, 0, dx, dy, dz))
+          offsets[k++] = { dx, dy, dz };
+  return offsets;
+}
+
+std::int32_t cellCoordinate(float value, double cell_size)
+{
+  // Clamped so that absurd inputs cannot overflow; real sweeps are far inside.
+  const double c = std::floor(static_cast<double>(value) / cell_size);
+  return static_cast<std::int32_t>(std::max(-1.0e9, std::min(1.0e9, c)));
+}
+}  // namespace
+
+struct ObjectExtractor::Workspace
+{
+  // Unassigned-or-not errorSurface points of the sweep (candidates), in beam order.
+  Cloud::Ptr cloud{ new Cloud };
+  std::vector<PointRef> refs;
+  std::vector<char> assigned;
+  IndexVector remaining;  // candidates not yet assigned to a plane, ascending
+  IndexVector inliers;
+  IndexVector refined_inliers;
+  Eigen::VectorXf coefficients;
+  Eigen::VectorXf refined_coefficients;
+
+  // Connected components of one plane's inliers on a grid of cells of half the connection
+  // distance (any two points of one cell are connected; a partner is at most two cells away).
+  std::vector<Eigen::Vector3f> inlier_points;  // positions of `inliers`, same order
+  std::vector<CellPoint> cell_points;
+  std::vector<Cell> cells;
+  std::vector<std::uint32_t> point_cell;  // cell of each inlier
+  std::vector<std::uint32_t> parent;      // union-find over cells
+  std::vector<std::int32_t> patch_of_root;
+  std::vector<std::uint32_t> point_patch;
+  std::vector<std::uint32_t> patch_start;  // patch_count + 1 entries
+  std::vector<std::uint32_t> patch_fill;
+  std::vector<std::uint32_t> patch_members;  // inlier positions grouped by patch, ascending
+
+  // One patch in its plane.
+  std::vector<Eigen::Vector2d> projected;
+  std::vector<Eigen::Vector2d> hull;
+  std::vector<std::pair<double, std::uint32_t>> sweep_order;
+  std::vector<double> nearest;
+
+  std::uint32_t find(std::uint32_t cell)
+  {
+    while (parent[cell] != cell)
+    {
+      parent[cell] = parent[parent[cell]];
+      cell = parent[cell];
+    }
+    return cell;
+  }
+
+  void gather(const Sweep& sweep, const SweepLabels& labels);
+  std::size_t splitPatches(double connection_distance);
+  bool anyPairCloser(const Cell& a, const Cell& b, float squared_distance) const;
+  double typicalSpacing(const Eigen::Vector2d& sweep_direction);
+  void buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin, std::uint32_t patch,
+                   ReflectiveObject& object);
+};
+
+void ObjectExtractor::WorkspaceDeleter::operator()(Workspace* workspace) const
+{
+  delete workspace;
+}
+
+void ObjectExtractor::Workspace::gather(const Sweep& sweep, const SweepLabels& labels)
+{
+  Cloud& c = *cloud;
+  c.points.clear();
+  refs.clear();
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t beam = 0; beam < beams; ++beam)
+  {
+    for (std::uint8_t echo = 0; echo < 2; ++echo)
+    {
+      if (labels.echoes[echo][beam] != Label::errorSurface)
+        continue;
+      const Eigen::Vector3f& p = sweep.echoes[echo].points[beam];
+      if (!p.allFinite())
+        continue;
+      c.points.push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+      refs.push_back(PointRef{ static_cast<std::uint32_t>(beam), echo });
+    }
+  }
+  c.width = static_cast<std::uint32_t>(c.points.size());
+  c.height = 1;
+  c.is_dense = true;
+  assigned.assign(refs.size(), 0);
+  remaining.resize(refs.size());
+  for (std::size_t i = 0; i < refs.size(); ++i)
+    remaining[i] = static_cast<int>(i);
+}
+
+bool ObjectExtractor::Workspace::anyPairCloser(const Cell& a, const Cell& b, float squared_distance) const
+{
+  for (std::uint32_t i = a.begin; i < a.end; ++i)
+  {
+    const Eigen::Vector3f& p = inlier_points[cell_points[i].point];
+    for (std::uint32_t j = b.begin; j < b.end; ++j)
+      if ((inlier_points[cell_points[j].point] - p).squaredNorm() < squared_distance)
+        return true;
+  }
+  return false;
+}
+
+// Splits `inliers` (ascending) into connected patches; patch k is
+// patch_members[patch_start[k] .. patch_start[k + 1]), patches numbered in the order of their
+// first point. Returns the number of patches.
+std::size_t ObjectExtractor::Workspace::splitPatches(double connection_distance)
+{
+  static const std::array<std::array<std::int32_t, 3>, 62> kOffsets = forwardOffsets();
+  const std::size_t n = inliers.size();
+  // Cell diagonal 0.87 * distance; the floor only guards a zero radius from direct callers.
+  const double cell_size = std::max(0.5 * connection_distance, 1e-6);
+
+  inlier_points.resize(n);
+  cell_points.resize(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const pcl::PointXYZ& q = cloud->points[static_cast<std::size_t>(inliers[k])];
+    inlier_points[k] = Eigen::Vector3f(q.x, q.y, q.z);
+    cell_points[k] = CellPoint{ cellCoordinate(q.x, cell_size), cellCoordinate(q.y, cell_size),
+                                cellCoordinate(q.z, cell_size), static_cast<std::uint32_t>(k) };
+  }
+  std::sort(cell_points.begin(), cell_points.end(), [](const CellPoint& a, const CellPoint& b) {
+    return cellLess(a.x, a.y, a.z, b.x, b.y, b.z) || (a.x == b.x && a.y == b.y && a.z == b.z && a.point < b.point);
+  });
+
+  cells.clear();
+  point_cell.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i)
+  {
+    const CellPoint& cp = cell_points[i];
+    if (cells.empty() || cells.back().x != cp.x || cells.back().y != cp.y || cells.back().z != cp.z)
+      cells.push_back(Cell{ cp.x, cp.y, cp.z, i, i });
+    cells.back().end = i + 1;
+    point_cell[cp.point] = static_cast<std::uint32_t>(cells.size() - 1);
+  }
+
+  const std::size_t cell_count = cells.size();
+  parent.resize(cell_count);
+  for (std::uint32_t c = 0; c < cell_count; ++c)
+    parent[c] = c;
+  const float squared_distance = static_cast<float>(connection_distance * connection_distance);
+  for (std::uint32_t a = 0; a < cell_count; ++a)
+  {
+    for (const std::array<std::int32_t, 3>& offset : kOffsets)
+    {
+      const std::int32_t x = cells[a].x + offset[0];
+      const std::int32_t y = cells[a].y + offset[1];
+      const std::int32_t z = cells[a].z + offset[2];
+      const auto it = std::lower_bound(cells.begin(), cells.end(), 0, [x, y, z](const Cell& c, int) {
+        return cellLess(c.x, c.y, c.z, x, y, z);
+      });
+      if (it == cells.end() || it->x != x || it->y != y || it->z != z)
+        continue;
+      const std::uint32_t b = static_cast<std::uint32_t>(it - cells.begin());
+      const std::uint32_t root_a = find(a);
+      const std::uint32_t root_b = find(b);
+      // All points of a cell are already connected, so one close pair joins two cells.
+      if (root_a == root_b || !anyPairCloser(cells[a], cells[b], squared_distance))
+        continue;
+      parent[std::max(root_a, root_b)] = std::min(root_a, root_b);
+    }
+  }
+
+  // Number patches by first point and group the points by patch (counting sort, stable).
+  patch_of_root.assign(cell_count, -1);
+  point_patch.resize(n);
+  patch_start.assign(1, 0);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const std::uint32_t root = find(point_cell[k]);
+    if (patch_of_root[root] < 0)
+    {
+      patch_of_root[root] = static_cast<std::int32_t>(patch_start.size() - 1);
+      patch_start.push_back(0);
+    }
+    point_patch[k] = static_cast<std::uint32_t>(patch_of_root[root]);
+    ++patch_start[point_patch[k] + 1];
+  }
+  const std::size_t patch_count = patch_start.size() - 1;
+  for (std::size_t p = 0; p < patch_count; ++p)
+    patch_start[p + 1] += patch_start[p];
+  patch_fill.assign(patch_start.begin(), patch_start.end() - 1);
+  patch_members.resize(n);
+  for (std::uint32_t k = 0; k < n; ++k)
+    patch_members[patch_fill[point_patch[k]]++] = k;
+  return patch_count;
+}
+
+// Median distance from each projected point to its nearest other one: the sampling
+// spacing of the patch. Nearest neighbours by a sweep over the points sorted along
+// `sweep_direction` (the patch's long axis, so the band searched around a point crosses
+// the short side); stops once the sorted distance alone exceeds the best found.
+double ObjectExtractor::Workspace::typicalSpacing(const Eigen::Vector2d& sweep_direction)
+{
+  const std::size_t n = projected.size();
+  if (n < 2)
+    return 0.0;
+  sweep_order.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i)
+    sweep_order[i] = { projected[i].dot(sweep_direction), i };
+  std::sort(sweep_order.begin(), sweep_order.end());
+  // A median needs no more than a couple of thousand samples: on large patches query every
+  // stride-th point (against all of them).
+  const std::size_t stride = (n + kSpacingSamples - 1) / kSpacingSamples;
+  nearest.clear();
+  for (std::size_t a = 0; a < n; a += stride)
+  {
+    const double key = sweep_order[a].first;
+    const Eigen::Vector2d& p = projected[sweep_order[a].second];
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t b = a + 1; b < n && sweep_order[b].first - key < best; ++b)
+      best = std::min(best, (projected[sweep_order[b].second] - p).norm());
+    for (std::size_t b = a; b-- > 0 && key - sweep_order[b].first < best;)
+      best = std::min(best, (projected[sweep_order[b].second] - p).norm());
+    nearest.push_back(best);
+  }
+  const auto middle = nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() / 2);
+  std::nth_element(nearest.begin(), middle, nearest.end());
+  return *middle;
+}
+
+void ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin,
+                                             std::uint32_t patch, ReflectiveObject& object)
+{
+  const std::uint32_t begin = patch_start[patch];
+  const std::uint32_t end = patch_start[patch + 1];
+  const double count = static_cast<double>(end - begin);
+
+  // Least-squares plane of the patch: centroid and the direction of least variance.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (std::uint32_t m = begin; m < end; ++m)
+    centroid += inlier_points[patch_members[m]].cast<double>();
+  centroid /= count;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (std::uint32_t m = begin; m < end; ++m)
+  {
+    const Eigen::Vector3d d = inlier_points[patch_members[m]].cast<double>() - centroid;
+    covariance += d * d.transpose();
+  }
+  covariance /= count;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  const Eigen::Vector3d eigenvalues = solver.eigenvalues();  // ascending
+  Eigen::Vector3d normal = solver.eigenvectors().col(0);
+  // Collinear points (one scan line across the object) do not fix a plane: keep RANSAC's.
+  if (!(eigenvalues[1] > 1e-6 * eigenvalues[2]) || !normal.allFinite())
+    normal = ransac_normal.cast<double>();
+  normal.normalize();
+  if (normal.dot(origin.cast<double>() - centroid) < 0.0)
+    normal = -normal;
+
+  // Orthonormal basis of the plane with u x v = normal.
+  const Eigen::Vector3d helper = std::fabs(normal.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d u = normal.cross(helper).normalized();
+  const Eigen::Vector3d v = normal.cross(u);
+
+  projected.resize(end - begin);
+  for (std::uint32_t m = begin; m < end; ++m)
+  {
+    const Eigen::Vector3d d = inlier_points[patch_members[m]].cast<double>() - centroid;
+    projected[m - begin] = Eigen::Vector2d(d.dot(u), d.dot(v));
+  }
+  const Eigen::Vector3d long_axis = solver.eigenvectors().col(2);
+  Eigen::Vector2d sweep_direction(long_axis.dot(u), long_axis.dot(v));
+  sweep_direction = sweep_direction.norm() > 1e-9 ? sweep_direction.normalized() : Eigen::Vector2d::UnitX();
+  const double spacing = typicalSpacing(sweep_direction);
+
+  convexHull(projected, hull);  // reorders `projected`
+  Rectangle2D rectangle = minAreaRectangle(hull);
+  // Sampling bias: points at spacing s on an object of extent L span L - s on average
+  // (the first and last sample fall anywhere within s of the edges; half a spacing
+  // missing on each side), so the hull is about one spacing short in each direction.
+  // Grow both extents by the patch's typical spacing, half on each side.
+  rectangle.length += spacing;
+  rectangle.breadth += spacing;
+
+  const Eigen::Vector3d axis_a = u * rectangle.axis.x() + v * rectangle.axis.y();
+  const Eigen::Vector3d axis_b = u * rectangle.perpendicular().x() + v * rectangle.perpendicular().y();
+  const Eigen::Vector3d centre = centroid + u * rectangle.centre.x() + v * rectangle.centre.y();
+
+  // Width: the more horizontal side; on a horizontal plane the longer side.
+  bool a_is_width;
+  if (std::fabs(normal.z()) > kHorizontalNormalZ)
+    a_is_width = rectangle.length >= rectangle.breadth;
+  else
+    a_is_width = std::fabs(axis_a.z()) <= std::fabs(axis_b.z());
+  Eigen::Vector3d width_axis = a_is_width ? axis_a : axis_b;
+  Eigen::Vector3d height_axis = normal.cross(width_axis);  // so width x height = normal
+  // Signs: the height axis points up; on a horizontal plane, where no side is up, away from
+  // the sensor (the far side of a floor mirror is its "top"), else along +x, else +y.
+  double up;
+  if (std::fabs(normal.z()) > kHorizontalNormalZ)
+  {
+    Eigen::Vector3d away = centre - origin.cast<double>();
+    away.z() = 0.0;
+    up = height_axis.dot(away);
+    if (std::fabs(up) < 1e-9)
+      up = std::fabs(height_axis.x()) > 1e-9 ? height_axis.x() : height_axis.y();
+  }
+  else
+  {
+    up = height_axis.z();
+  }
+  if (up < 0.0)
+  {
+    width_axis = -width_axis;
+    height_axis = -height_axis;
+  }
+
+  object.type = ObjectType::unknown;
+  object.plane.head<3>() = normal.cast<float>();
+  object.plane[3] = static_cast<float>(-normal.dot(centroid));
+  object.centre = centre.cast<float>();
+  object.width_axis = width_axis.cast<float>();
+  object.height_axis = height_axis.cast<float>();
+  object.width = static_cast<float>(a_is_width ? rectangle.length : rectangle.breadth);
+  object.height = static_cast<float>(a_is_width ? rectangle.breadth : rectangle.length);
+  object.surface_inliers.resize(end - begin);
+  for (std::uint32_t m = begin; m < end; ++m)
+    object.surface_inliers[m - begin] = refs[static_cast<std::size_t>(inliers[patch_members[m]])];
+}
+
+void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const SweepLabels& labels,
+                              std::vector<ReflectiveObject>& objects)
+{
+  objects.clear();
+  if (!workspace_)
+    workspace_.reset(new Workspace);
+  Workspace& ws = *workspace_;
+  ws.gather(sweep, labels);
+
+  // Three points span a plane; Params::validate() refuses fewer, this guards direct callers.
+  const std::size_t min_points = static_cast<std::size_t>(std::max(params.min_object_points, 3));
+  // Every pass assigns at least min_points (>= 3) points or stops, so the loop ends.
+  while (ws.remaining.size() >= min_points)
+  {
+    // A fresh model and RANSAC per plane: both seed their generators with PCL's fixed seed
+    // (12345) when not asked for a random one, so the same sweep gives the same planes,
+    // whatever the extractor did before. Single-threaded (PCL's default).
+    pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
+        new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(ws.cloud, ws.remaining, false));
+    pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, params.plane_threshold);
+    ransac.setMaxIterations(kRansacMaxIterations);
+    if (!ransac.computeModel())
+      break;
+    ransac.getInliers(ws.inliers);
+    ransac.getModelCoefficients(ws.coefficients);
+    // Least-squares polish of the plane on its inliers, and the inliers of the polished
+    // plane when there are at least as many (RANSAC's plane through three noisy points is
+    // a little tilted and misses the edges of a large patch).
+    if (ws.inliers.size() >= 3)
+    {
+      model->optimizeModelCoefficients(ws.inliers, ws.coefficients, ws.refined_coefficients);
+      model->selectWithinDistance(ws.refined_coefficients, params.plane_threshold, ws.refined_inliers);
+      if (ws.refined_inliers.size() >= ws.inliers.size() && ws.refined_coefficients.allFinite())
+      {
+        std::swap(ws.inliers, ws.refined_inliers);
+        std::swap(ws.coefficients, ws.refined_coefficients);
+      }
+    }
+    if (ws.inliers.size() < min_points)
+      break;
+    std::sort(ws.inliers.begin(), ws.inliers.end());
+    std::size_t newly_assigned = 0;
+    for (const int index : ws.inliers)
+    {
+      newly_assigned += ws.assigned[static_cast<std::size_t>(index)] == 0 ? 1 : 0;
+      ws.assigned[static_cast<std::size_t>(index)] = 1;
+    }
+    // PCL only returns points among `remaining`; should it ever not, stop rather than spin.
+    if (newly_assigned == 0)
+      break;
+
+    const Eigen::Vector3f ransac_normal = ws.coefficients.head<3>();
+    const std::size_t patch_count = ws.splitPatches(params.outlier_radius);
+    for (std::uint32_t patch = 0; patch < patch_count; ++patch)
+    {
+      if (ws.patch_start[patch + 1] - ws.patch_start[patch] < min_points)
+        continue;
+      objects.emplace_back();
+      ReflectiveObject& object = objects.back();
+      object.id = static_cast<std::uint32_t>(objects.size() - 1);
+      ws.buildObject(ransac_normal, sweep.origin, patch, object);
+    }
+
+    ws.remaining.erase(std::remove_if(ws.remaining.begin(), ws.remaining.end(),
+                                      [&ws](int index) { return ws.assigned[static_cast<std::size_t>(index)] != 0; }),
+                       ws.remaining.end());
+  }
+}
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

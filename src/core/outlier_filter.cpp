@@ -1,0 +1,507 @@
+#include "ohm_mirror_detector3d/core/outlier_filter.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+// Uniform grid with cells at least as large as the radius, so that every neighbour of a
+// point lies in its own cell or one of the 26 around it. Points are grouped by cell (a
+// hash of the packed cell coordinates, then the cells sorted by key), so that a cell's
+// points are contiguous, the distance loop streams through plain float arrays, and the
+// three cells of a column along z are one contiguous range: a point has at most 11
+// ranges to look at (own cell, the cells above and below, 8 columns), found by pointers
+// that only move forward as the cells are visited in key order, without a lookup.
+//
+// Expected O(N) for bounded density. Per point, each larger range is first judged by the
+// bounding box of its points: wholly within r counts all its points at once, wholly beyond
+// r is skipped, only the rest is scanned point by point. The scan stops as soon as the
+// point has n_inlier neighbours or can no longer reach them, so dense regions cost a
+// bounded number of distance tests per point whatever the density.
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+namespace
+{
+constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint64_t kEmptyKey = std::numeric_limits<std::uint64_t>::max();
+
+// 21 bits per axis, biased so that the anchor point sits in the middle. Coordinates are
+// clamped to [1, 2^21 - 2] so that a neighbour offset of +-1 never carries into the next
+// field: the key of a neighbour cell is then the key plus a constant. Clamping maps far
+// points onto the border cells; since clamping never moves two coordinates further
+// apart, neighbours still land in adjacent cells and the result stays exact, only
+// slower for points more than ~2^20 cells (105 km at r = 0.1 m) from the first one.
+constexpr int kAxisBits = 21;
+constexpr double kBias = static_cast<double>(1 << (kAxisBits - 1));
+constexpr double kMaxCoord = static_cast<double>((1 << kAxisBits) - 2);
+
+// Cells slightly larger than r: the float distance test may accept pairs a few ulps
+// beyond r, and those must still be in adjacent cells.
+constexpr double kCellMargin = 1.0 + 1e-4;
+
+// The bounding-box shortcuts must never disagree with the per-point float test, whatever
+// its rounding (or fused multiply-add on some targets); a relative margin far above float
+// rounding keeps them on the safe side, and pairs inside the margin get the exact test.
+constexpr float kBoxMargin = 1e-5f;
+
+// Points of a cell are stored padded to whole blocks so that the distance loop has no
+// scalar tail; padding points are NaN, which no comparison accepts.
+constexpr std::uint32_t kBlock = 8;
+
+inline std::uint64_t axisCell(float value, float anchor, double inv_cell)
+{
+  // Truncation is floor here because the value is clamped positive first; this keeps
+  // std::floor (a libm call without SSE4.1) out of the per-point loop.
+  double t = (static_cast<double>(value) - static_cast<double>(anchor)) * inv_cell + kBias;
+  t = std::min(std::max(t, 1.0), kMaxCoord);
+  return static_cast<std::uint64_t>(t);
+}
+
+inline std::uint64_t packCell(std::uint64_t cx, std::uint64_t cy, std::uint64_t cz)
+{
+  return (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
+}
+
+inline std::uint64_t hashKey(std::uint64_t key, int shift)
+{
+  return (key * 0x9E3779B97F4A7C15ULL) >> shift;
+}
+
+// Counts points of [begin, end) (whole blocks) within r of q on top of `count`, stopping
+// once `need` is reached; the exit is checked once per block so that the block itself
+// has no branch and vectorises.
+inline std::size_t countWithin(const float* xs, const float* ys, const float* zs, std::uint32_t begin,
+                               std::uint32_t end, float qx, float qy, float qz, float r2, std::size_t count,
+                               std::size_t need)
+{
+  for (std::uint32_t j = begin; j < end; j += kBlock)
+  {
+    // Block-local pointers: with xs[j + t] the compiler must allow for j + t wrapping
+    // around in 32 bits and loads each lane on its own instead of one vector load.
+    const float* bx = xs + j;
+    const float* by = ys + j;
+    const float* bz = zs + j;
+    std::uint32_t block = 0;
+    // At -O3 gcc would unroll this loop completely before vectorising and end up scalar.
+#pragma GCC unroll 1
+    for (std::uint32_t t = 0; t < kBlock; ++t)
+    {
+      const float dx = bx[t] - qx;
+      const float dy = by[t] - qy;
+      const float dz = bz[t] - qz;
+      block += (dx * dx + dy * dy + dz * dz <= r2) ? 1u : 0u;
+    }
+    count += block;
+    if (count >= need)
+      break;
+  }
+  return count;
+}
+
+inline bool isFinite(const Eigen::Vector3f& p)
+{
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
+}
+
+// Neighbouring cells as seen from the cell being judged: one cell or a column of up to
+// three, contiguous in the sorted arrays.
+struct Range
+{
+  std::uint32_t begin;  // in the sorted arrays
+  std::uint32_t end;    // padded end
+  std::uint32_t count;  // real points
+  float box[6];         // min x, y, z, max x, y, z
+};
+
+// Ranges smaller than this are scanned without looking at their box first: a block or
+// two costs about as much as the box test, and the branch it adds mispredicts.
+constexpr std::uint32_t kBoxTestMinPoints = 2 * kBlock;
+
+}  // namespace
+
+std::size_t OutlierFilter::apply(const Sweep& sweep, const Params& params, Label subject, SweepLabels& labels)
+{
+  // With n_inlier <= 0 nobody can have too few neighbours; relabelling nanPoint as
+  // nanPoint changes nothing.
+  if (params.outlier_min_neighbors <= 0 || subject == Label::nanPoint)
+    return 0;
+
+  const double radius = params.outlier_radius;
+  // A NaN or negative radius has no neighbours in it; r = 0 still holds exact duplicates
+  // of other beams. Any cell at least r wide is correct, so a degenerate r gets 1 m cells.
+  const float r2 = radius >= 0.0 ? static_cast<float>(radius * radius) : -1.0f;
+  double cell_size = radius * kCellMargin;
+  if (!(cell_size >= 1e-6) || !std::isfinite(1.0 / cell_size))
+    cell_size = std::isinf(radius) ? std::numeric_limits<double>::infinity() : 1.0;
+  const float r2_inside = r2 >= 0.0f ? r2 * (1.0f - kBoxMargin) : -1.0f;
+  const float r2_outside = r2 >= 0.0f ? r2 * (1.0f + kBoxMargin) : -1.0f;
+
+  std::size_t removed = gather(sweep, subject, cell_size, labels);
+  if (point_count_ == 0)
+    return removed;
+  buildGrid();
+
+  // The point itself is always within r of itself, so it needs n_inlier + 1 including itself.
+  const std::size_t need = static_cast<std::size_t>(params.outlier_min_neighbors) + 1;
+
+  const float* xs = sorted_x_.data();
+  const float* ys = sorted_y_.data();
+  const float* zs = sorted_z_.data();
+  std::vector<Label>& labels1 = labels.echoes[0];
+  std::vector<Label>& labels2 = labels.echoes[1];
+  // Decisions depend only on the gathered coordinates, never on labels, so writing labels
+  // as we go cannot cascade.
+  auto remove = [&](std::uint32_t owner) {
+    const std::size_t beam = owner >> 2;
+    if (owner & 1u)
+    {
+      labels1[beam] = Label::nanPoint;
+      ++removed;
+    }
+    if (owner & 2u)
+    {
+      labels2[beam] = Label::nanPoint;
+      ++removed;
+    }
+  };
+
+  const std::size_t cell_count = cell_keys_.size();
+  const std::uint64_t* keys = cell_keys_.data();
+  auto cellRange = [&](std::size_t first, std::size_t last, Range& range) {
+    // [first, last) are consecutive cells, hence one contiguous span of the arrays.
+    range.begin = cell_start_[first];
+    range.end = cell_start_[last];
+    range.count = 0;
+    const float* box = &cell_boxes_[6 * first];
+    std::copy(box, box + 6, range.box);
+    for (std::size_t cell = first; cell < last; ++cell, box += 6)
+    {
+      range.count += cell_counts_[cell];
+      for (int a = 0; a < 3; ++a)
+      {
+        range.box[a] = std::min(range.box[a], box[a]);
+        range.box[a + 3] = std::max(range.box[a + 3], box[a + 3]);
+      }
+    }
+  };
+
+  // The 8 neighbouring columns, faces before diagonals (nearer first, earlier exit). As
+  // cells are visited in increasing key, the key of each neighbouring column increases
+  // too, so each column's search pointer only moves forward.
+  constexpr std::int64_t kY = std::int64_t(1) << kAxisBits;
+  constexpr std::int64_t kX = std::int64_t(1) << (2 * kAxisBits);
+  constexpr std::array<std::int64_t, 8> column_offsets = { -kX, kX, -kY, kY, -kX - kY, -kX + kY, kX - kY, kX + kY };
+  std::array<std::size_t, 8> column_cursor{};
+
+  std::array<Range, 11> ranges;
+  for (std::size_t c = 0; c < cell_count; ++c)
+  {
+    const std::uint64_t key = keys[c];
+    std::size_t range_count = 0;
+    cellRange(c, c + 1, ranges[range_count++]);
+    if (c > 0 && keys[c - 1] == key - 1)
+      cellRange(c - 1, c, ranges[range_count++]);
+    if (c + 1 < cell_count && keys[c + 1] == key + 1)
+      cellRange(c + 1, c + 2, ranges[range_count++]);
+    for (std::size_t col = 0; col < column_offsets.size(); ++col)
+    {
+      // The clamped coordinates keep key + offset +- 1 inside the key's own fields.
+      const std::uint64_t low = static_cast<std::uint64_t>(static_cast<std::int64_t>(key) + column_offsets[col]) - 1;
+      std::size_t first = column_cursor[col];
+      while (first < cell_count && keys[first] < low)
+        ++first;
+      column_cursor[col] = first;
+      std::size_t last = first;
+      while (last < cell_count && keys[last] <= low + 2)
+        ++last;
+      if (last > first)
+        cellRange(first, last, ranges[range_count++]);
+    }
+
+    std::size_t total = 0;
+    for (std::size_t k = 0; k < range_count; ++k)
+      total += ranges[k].count;
+    const std::uint32_t begin = cell_start_[c];
+    const std::uint32_t end = begin + cell_counts_[c];
+    if (total < need)
+    {
+      for (std::uint32_t i = begin; i < end; ++i)
+        remove(sorted_owners_[i]);
+      continue;
+    }
+    for (std::uint32_t i = begin; i < end; ++i)
+    {
+      const float qx = xs[i], qy = ys[i], qz = zs[i];
+      std::size_t count = 0;
+      std::size_t unseen = total;
+      for (std::size_t k = 0; k < range_count; ++k)
+      {
+        const Range& range = ranges[k];
+        bool scan = true;
+        if (range.count >= kBoxTestMinPoints)
+        {
+          const float* box = range.box;
+          const float far_x = std::max(qx - box[0], box[3] - qx);
+          const float far_y = std::max(qy - box[1], box[4] - qy);
+          const float far_z = std::max(qz - box[2], box[5] - qz);
+          const float near_x = std::max(std::max(box[0] - qx, qx - box[3]), 0.0f);
+          const float near_y = std::max(std::max(box[1] - qy, qy - box[4]), 0.0f);
+          const float near_z = std::max(std::max(box[2] - qz, qz - box[5]), 0.0f);
+          if (far_x * far_x + far_y * far_y + far_z * far_z <= r2_inside)
+          {
+            count += range.count;
+            scan = false;
+          }
+          else if (near_x * near_x + near_y * near_y + near_z * near_z > r2_outside)
+          {
+            scan = false;
+          }
+        }
+        if (scan)
+          count = countWithin(xs, ys, zs, range.begin, range.end, qx, qy, qz, r2, count, need);
+        unseen -= range.count;
+        if (count >= need || count + unseen < need)
+          break;
+      }
+      if (count < need)
+        remove(sorted_owners_[i]);
+    }
+  }
+  return removed;
+}
+
+std::size_t OutlierFilter::gather(const Sweep& sweep, Label subject, double cell_size, SweepLabels& labels)
+{
+  const std::vector<Eigen::Vector3f>& points1 = sweep.echoes[0].points;
+  const std::vector<Eigen::Vector3f>& points2 = sweep.echoes[1].points;
+  std::vector<Label>& labels1 = labels.echoes[0];
+  std::vector<Label>& labels2 = labels.echoes[1];
+  // Guards against a caller whose arrays disagree in size rather than reading past one.
+  const std::size_t beams = std::min({ points1.size(), points2.size(), labels1.size(), labels2.size() });
+
+  // Sized for the worst case and never shrunk, then written through pointers: push_back's
+  // capacity test per element would cost more than the rest of this loop.
+  if (xs_.size() < 2 * beams)
+  {
+    xs_.resize(2 * beams);
+    ys_.resize(2 * beams);
+    zs_.resize(2 * beams);
+    owners_.resize(2 * beams);
+    point_keys_.resize(2 * beams);
+  }
+  float* xs = xs_.data();
+  float* ys = ys_.data();
+  float* zs = zs_.data();
+  std::uint32_t* owners = owners_.data();
+  std::size_t n = 0;
+  std::size_t removed = 0;
+  auto add = [&](const Eigen::Vector3f& p, std::uint32_t owner) {
+    xs[n] = p.x();
+    ys[n] = p.y();
+    zs[n] = p.z();
+    owners[n] = owner;
+    ++n;
+  };
+
+  for (std::size_t i = 0; i < beams; ++i)
+  {
+    const bool subject1 = labels1[i] == subject;
+    const bool subject2 = labels2[i] == subject;
+    if (!subject1 && !subject2)
+      continue;
+    const std::uint32_t beam_bits = static_cast<std::uint32_t>(i) << 2;
+    const bool finite1 = subject1 && isFinite(points1[i]);
+    const bool finite2 = subject2 && isFinite(points2[i]);
+    if (subject1 && !finite1)
+    {
+      labels1[i] = Label::nanPoint;
+      ++removed;
+    }
+    if (subject2 && !finite2)
+    {
+      labels2[i] = Label::nanPoint;
+      ++removed;
+    }
+    if (finite1 && finite2 && points1[i] == points2[i])
+    {
+      add(points1[i], beam_bits | 3u);
+      continue;
+    }
+    if (finite1)
+      add(points1[i], beam_bits | 1u);
+    if (finite2)
+      add(points2[i], beam_bits | 2u);
+  }
+  point_count_ = n;
+
+  // Cell coordinates relative to the first point, so the 21-bit fields cover the cloud
+  // wherever it is.
+  const double inv_cell = std::isinf(cell_size) ? 0.0 : 1.0 / cell_size;
+  const float ax = n > 0 ? xs[0] : 0.0f;
+  const float ay = n > 0 ? ys[0] : 0.0f;
+  const float az = n > 0 ? zs[0] : 0.0f;
+  std::uint64_t* keys = point_keys_.data();
+  std::size_t runs = 0;
+  std::uint64_t last_key = kEmptyKey;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint64_t key =
+        packCell(axisCell(xs[i], ax, inv_cell), axisCell(ys[i], ay, inv_cell), axisCell(zs[i], az, inv_cell));
+    keys[i] = key;
+    runs += key != last_key ? 1 : 0;
+    last_key = key;
+  }
+  key_runs_ = runs;
+  return removed;
+}
+
+void OutlierFilter::resetTable(std::size_t capacity)
+{
+  if (table_keys_.size() < capacity)
+  {
+    table_keys_.resize(capacity);
+    table_cells_.resize(capacity);
+  }
+  std::fill(table_keys_.begin(), table_keys_.begin() + static_cast<std::ptrdiff_t>(capacity), kEmptyKey);
+  table_mask_ = capacity - 1;
+  int bits = 0;
+  while ((std::size_t(1) << bits) < capacity)
+    ++bits;
+  table_shift_ = 64 - bits;
+}
+
+void OutlierFilter::buildGrid()
+{
+  const std::size_t point_count = point_count_;
+
+  // A table for about as many cells as the previous sweep had keeps it in cache (sweeps
+  // of one scanner look alike); it grows when needed. key_runs_ bounds the distinct cells
+  // from above, which caps it for small sweeps. Load factor stays <= 1/2.
+  const std::size_t expected_cells = std::min(key_runs_, std::max<std::size_t>(cell_keys_.size(), 8));
+  std::size_t capacity = 16;
+  while (capacity < 4 * expected_cells)
+    capacity <<= 1;
+  resetTable(capacity);
+
+  first_seen_keys_.clear();
+  first_seen_counts_.clear();
+  if (point_cells_.size() < point_count)
+    point_cells_.resize(point_count);
+  std::uint64_t last_key = kEmptyKey;
+  std::uint32_t last_cell = kNoCell;
+  for (std::size_t i = 0; i < point_count; ++i)
+  {
+    const std::uint64_t key = point_keys_[i];
+    if (key != last_key)
+    {
+      std::uint64_t slot = hashKey(key, table_shift_);
+      while (table_keys_[slot] != key && table_keys_[slot] != kEmptyKey)
+        slot = (slot + 1) & table_mask_;
+      if (table_keys_[slot] == kEmptyKey)
+      {
+        const std::uint32_t cell = static_cast<std::uint32_t>(first_seen_keys_.size());
+        first_seen_keys_.push_back(key);
+        first_seen_counts_.push_back(0);
+        if (2 * first_seen_keys_.size() > table_mask_ + 1)
+        {
+          // Rehash every cell so far, this one included, into a table twice the size.
+          resetTable(2 * (table_mask_ + 1));
+          for (std::uint32_t c = 0; c <= cell; ++c)
+          {
+            std::uint64_t s = hashKey(first_seen_keys_[c], table_shift_);
+            while (table_keys_[s] != kEmptyKey)
+              s = (s + 1) & table_mask_;
+            table_keys_[s] = first_seen_keys_[c];
+            table_cells_[s] = c;
+          }
+        }
+        else
+        {
+          table_keys_[slot] = key;
+          table_cells_[slot] = cell;
+        }
+        last_cell = cell;
+      }
+      else
+      {
+        last_cell = table_cells_[slot];
+      }
+      last_key = key;
+    }
+    point_cells_[i] = last_cell;
+    ++first_seen_counts_[last_cell];
+  }
+
+  // Key order makes a column of cells contiguous and lets the search pointers of apply()
+  // move forward only. Sorting cells, not points, keeps this at a fraction of the work.
+  const std::size_t cell_count = first_seen_keys_.size();
+  key_order_.resize(cell_count);
+  for (std::size_t c = 0; c < cell_count; ++c)
+    key_order_[c] = { first_seen_keys_[c], static_cast<std::uint32_t>(c) };
+  std::sort(key_order_.begin(), key_order_.end());
+  cell_rank_.resize(cell_count);
+  cell_keys_.resize(cell_count);
+  cell_counts_.resize(cell_count);
+  cell_start_.resize(cell_count + 1);
+  std::uint32_t padded_total = 0;
+  for (std::size_t c = 0; c < cell_count; ++c)
+  {
+    const std::uint32_t seen = key_order_[c].second;
+    cell_rank_[seen] = static_cast<std::uint32_t>(c);
+    cell_keys_[c] = key_order_[c].first;
+    cell_counts_[c] = first_seen_counts_[seen];
+    cell_start_[c] = padded_total;
+    padded_total += (cell_counts_[c] + kBlock - 1) / kBlock * kBlock;
+  }
+  cell_start_[cell_count] = padded_total;
+
+  // Counting sort into block-padded slots; first_seen_counts_ serves as the fill cursor.
+  // Never shrunk, so that a smaller sweep does not pay for re-initialising on the next.
+  if (sorted_x_.size() < padded_total)
+  {
+    sorted_x_.resize(padded_total);
+    sorted_y_.resize(padded_total);
+    sorted_z_.resize(padded_total);
+    sorted_owners_.resize(padded_total);
+  }
+  std::vector<std::uint32_t>& cursor = first_seen_counts_;
+  for (std::size_t c = 0; c < cell_count; ++c)
+    cursor[c] = cell_start_[cell_rank_[c]];
+  for (std::size_t i = 0; i < point_count; ++i)
+  {
+    const std::uint32_t to = cursor[point_cells_[i]]++;
+    sorted_x_[to] = xs_[i];
+    sorted_y_[to] = ys_[i];
+    sorted_z_[to] = zs_[i];
+    sorted_owners_[to] = owners_[i];
+  }
+
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cell_boxes_.resize(6 * cell_count);
+  for (std::size_t c = 0; c < cell_count; ++c)
+  {
+    const std::uint32_t begin = cell_start_[c];
+    const std::uint32_t end = begin + cell_counts_[c];
+    std::fill(sorted_x_.data() + end, sorted_x_.data() + cell_start_[c + 1], nan);
+    std::fill(sorted_y_.data() + end, sorted_y_.data() + cell_start_[c + 1], nan);
+    std::fill(sorted_z_.data() + end, sorted_z_.data() + cell_start_[c + 1], nan);
+    float box[6] = { sorted_x_[begin], sorted_y_[begin], sorted_z_[begin],
+                     sorted_x_[begin], sorted_y_[begin], sorted_z_[begin] };
+    for (std::uint32_t i = begin + 1; i < end; ++i)
+    {
+      box[0] = std::min(box[0], sorted_x_[i]);
+      box[1] = std::min(box[1], sorted_y_[i]);
+      box[2] = std::min(box[2], sorted_z_[i]);
+      box[3] = std::max(box[3], sorted_x_[i]);
+      box[4] = std::max(box[4], sorted_y_[i]);
+      box[5] = std::max(box[5], sorted_z_[i]);
+    }
+    std::copy(box, box + 6, &cell_boxes_[6 * c]);
+  }
+}
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

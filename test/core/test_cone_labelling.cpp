@@ -1,0 +1,179 @@
+#include <gtest/gtest.h>
+
+#include "ohm_mirror_detector3d/core/cleaned_output.h"
+#include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/vision_cone.h"
+#include "object_fixtures.h"
+#include "sweep_fixtures.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace
+{
+using core::ConeRelation;
+using core::Label;
+using core::ObjectType;
+using test::wallObject;
+
+ConeRelation relationOf(const Eigen::Vector3f& p, float margin = 0.05f)
+{
+  return core::locateInCone(wallObject(2.0f, 0.6f, 0.4f), Eigen::Vector3f::Zero(), p, 0.05f, margin).relation;
+}
+
+TEST(VisionCone, LocatesPointsOnBehindInFrontAndOutside)
+{
+  EXPECT_EQ(relationOf({ 2.0f, 0.1f, 0.1f }), ConeRelation::onSurface);
+  EXPECT_EQ(relationOf({ 2.04f, 0.0f, 0.0f }), ConeRelation::onSurface);
+  EXPECT_EQ(relationOf({ 1.96f, 0.0f, 0.0f }), ConeRelation::onSurface);
+  EXPECT_EQ(relationOf({ 3.0f, 0.1f, 0.05f }), ConeRelation::behind);
+  EXPECT_EQ(relationOf({ 1.0f, 0.0f, 0.0f }), ConeRelation::inFront);
+  // The ray to (3, 0.6, 0) crosses the plane at y = 0.4 > 0.3 + 0.05.
+  EXPECT_EQ(relationOf({ 3.0f, 0.6f, 0.0f }), ConeRelation::outside);
+}
+
+TEST(VisionCone, TheMarginGrowsTheRectangle)
+{
+  // Crosses the plane at y = 0.34: outside the 0.6 m wide rectangle, inside it grown by 5 cm.
+  const Eigen::Vector3f p(4.0f, 0.68f, 0.0f);
+  EXPECT_EQ(relationOf(p, 0.05f), ConeRelation::behind);
+  EXPECT_EQ(relationOf(p, 0.0f), ConeRelation::outside);
+}
+
+TEST(VisionCone, TheConeIsFromTheSensorOriginNotAlongTheNormal)
+{
+  // Behind the plane and beyond the rectangle's edge along the normal, but seen through it.
+  EXPECT_EQ(relationOf({ 6.0f, 0.8f, 0.0f }), ConeRelation::behind);
+}
+
+TEST(VisionCone, ASensorBehindThePlaneSeesNoSurface)
+{
+  const core::ReflectiveObject object = wallObject(2.0f, 0.6f, 0.4f);
+  EXPECT_EQ(core::locateInCone(object, Eigen::Vector3f(3.0f, 0.0f, 0.0f), Eigen::Vector3f(1.0f, 0.0f, 0.0f), 0.05f,
+                               0.05f)
+                .relation,
+            ConeRelation::outside);
+}
+
+struct Labelled
+{
+  core::SweepLabels labels;
+  core::ObjectAssignment assignment;
+};
+
+Labelled label(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& objects,
+               const std::vector<std::pair<Label, Label>>& before = {})
+{
+  Labelled out;
+  out.labels.reset(sweep.beamCount());
+  for (std::size_t i = 0; i < before.size(); ++i)
+  {
+    out.labels.echoes[0][i] = before[i].first;
+    out.labels.echoes[1][i] = before[i].second;
+  }
+  core::labelByVisionCones(sweep, core::Params(), objects, out.labels, out.assignment);
+  return out;
+}
+
+TEST(ConeLabelling, LabelsSurfaceAndBehindPointsByTheObjectsType)
+{
+  const core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.1f, 0.1f }, { 3.0f, 0.1f, 0.05f } } });
+  const std::pair<ObjectType, std::pair<Label, Label>> cases[] = {
+    { ObjectType::unknown, { Label::errorSurface, Label::behindErrorS } },
+    { ObjectType::mirror, { Label::reflectiveSurface, Label::behindReflective } },
+    { ObjectType::glass, { Label::transparentSurface, Label::behindTransparent } },
+  };
+  for (const auto& c : cases)
+  {
+    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 0.6f, 0.4f, c.first) };
+    const Labelled out = label(sweep, objects, { { Label::errorSurface, Label::error } });
+    EXPECT_EQ(out.labels.echoes[0][0], c.second.first) << core::objectTypeName(c.first);
+    EXPECT_EQ(out.labels.echoes[1][0], c.second.second) << core::objectTypeName(c.first);
+    EXPECT_EQ(out.assignment.echoes[0][0], 0);
+    EXPECT_EQ(out.assignment.echoes[1][0], 0);
+  }
+}
+
+TEST(ConeLabelling, PointsOutsideEveryConeBecomeValidExceptErrorAndNanPoints)
+{
+  const core::Sweep sweep = test::makeSweep({ { { 1.0f, 0.0f, 0.0f }, { 5.0f, 3.0f, 0.0f } },
+                                              { { 4.0f, 3.0f, 0.0f }, { 4.0f, 3.0f, 0.0f } },
+                                              { { 1.5f, 2.0f, 0.0f }, { 6.0f, 4.0f, 0.0f } } });
+  std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 0.6f, 0.4f, ObjectType::mirror) };
+  const Labelled out = label(sweep, objects,
+                             { { Label::unchecked, Label::nanPoint },
+                               { Label::unchecked, Label::unchecked },
+                               { Label::errorSurface, Label::error } });
+  EXPECT_EQ(out.labels.echoes[0][0], Label::valid);  // in front of the mirror
+  EXPECT_EQ(out.labels.echoes[1][0], Label::nanPoint);
+  EXPECT_EQ(out.labels.echoes[0][1], Label::valid);
+  EXPECT_EQ(out.labels.echoes[0][2], Label::valid);  // a discontinuity with no object
+  EXPECT_EQ(out.labels.echoes[1][2], Label::error);
+  EXPECT_EQ(out.assignment.echoes[0][0], core::ObjectAssignment::kNoObject);
+}
+
+TEST(ConeLabelling, WhereConesOverlapTheNearerSurfaceWins)
+{
+  std::vector<core::ReflectiveObject> objects{ wallObject(3.0f, 1.0f, 1.0f, ObjectType::glass, 0),
+                                               wallObject(2.0f, 1.0f, 1.0f, ObjectType::mirror, 1) };
+  // On the far glass and behind the near mirror: the mirror decides, in either object order.
+  const core::Sweep sweep = test::makeSweep({ { { 3.0f, 0.0f, 0.0f }, { 4.0f, 0.0f, 0.0f } } });
+  for (int order = 0; order < 2; ++order)
+  {
+    const Labelled out = label(sweep, objects);
+    EXPECT_EQ(out.labels.echoes[0][0], Label::behindReflective);
+    EXPECT_EQ(out.labels.echoes[1][0], Label::behindReflective);
+    EXPECT_EQ(objects[static_cast<std::size_t>(out.assignment.echoes[0][0])].type, ObjectType::mirror);
+    std::swap(objects[0], objects[1]);
+  }
+}
+
+TEST(ConeLabelling, CountsSurfaceAndBehindPointsAndAveragesSurfaceIntensity)
+{
+  core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.0f, 0.0f }, { 3.0f, 0.0f, 0.0f } },
+                                        { { 2.0f, 0.1f, 0.0f }, { 3.0f, 0.15f, 0.0f } },
+                                        { { 1.0f, 0.0f, 0.0f }, { 1.0f, 0.0f, 0.0f } } });
+  sweep.echoes[0].intensities = { 10.0f, 20.0f, 99.0f };
+  std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 0.6f, 0.4f) };
+  label(sweep, objects);
+  EXPECT_EQ(objects[0].surface_points, 2u);
+  EXPECT_EQ(objects[0].behind_points, 2u);
+  EXPECT_FLOAT_EQ(objects[0].mean_surface_intensity, 15.0f);
+}
+
+TEST(CleanedOutput, BackProjectsPhantomsAcrossTheirOwnMirror)
+{
+  // Two mirrors side by side; each phantom reflects across its own plane.
+  core::ReflectiveObject left = wallObject(2.0f, 1.0f, 1.0f, ObjectType::mirror, 0);
+  left.centre.y() = 1.0f;
+  core::ReflectiveObject right = wallObject(2.5f, 1.0f, 1.0f, ObjectType::mirror, 1);
+  right.centre.y() = -1.0f;
+  std::vector<core::ReflectiveObject> objects{ left, right };
+  const core::Sweep sweep = test::makeSweep({ { { 2.0f, 1.0f, 0.0f }, { 3.0f, 1.5f, 0.0f } },
+                                              { { 2.5f, -1.0f, 0.0f }, { 3.0f, -1.2f, 0.0f } } });
+  Labelled out = label(sweep, objects, { { Label::errorSurface, Label::error }, { Label::errorSurface, Label::error } });
+  ASSERT_EQ(out.labels.echoes[1][0], Label::behindReflective);
+  ASSERT_EQ(out.labels.echoes[1][1], Label::behindReflective);
+  std::vector<core::OutputPoint> cleaned;
+  core::collectCleaned(sweep, out.labels, objects, out.assignment, cleaned);
+  ASSERT_EQ(cleaned.size(), 4u);
+  EXPECT_TRUE(cleaned[1].position.isApprox(Eigen::Vector3f(1.0f, 1.5f, 0.0f)));
+  EXPECT_EQ(cleaned[1].label, Label::behindReflective);
+  EXPECT_TRUE(cleaned[3].position.isApprox(Eigen::Vector3f(2.0f, -1.2f, 0.0f)));
+  // Surface points stay where they were measured.
+  EXPECT_TRUE(cleaned[0].position.isApprox(Eigen::Vector3f(2.0f, 1.0f, 0.0f)));
+}
+
+TEST(CleanedOutput, KeepsPointsBehindGlassInPlace)
+{
+  std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass) };
+  const core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.0f, 0.0f }, { 3.0f, 0.0f, 0.0f } } });
+  Labelled out = label(sweep, objects, { { Label::errorSurface, Label::error } });
+  std::vector<core::OutputPoint> cleaned;
+  core::collectCleaned(sweep, out.labels, objects, out.assignment, cleaned);
+  ASSERT_EQ(cleaned.size(), 2u);
+  EXPECT_EQ(cleaned[1].label, Label::behindTransparent);
+  EXPECT_TRUE(cleaned[1].position.isApprox(Eigen::Vector3f(3.0f, 0.0f, 0.0f)));
+}
+
+}  // namespace
+}  // namespace ohm_mirror_detector3d

@@ -1,0 +1,153 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "ohm_mirror_detector3d/core/object_type.h"
+#include "object_fixtures.h"
+#include "sweep_fixtures.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace
+{
+using core::Label;
+using core::ObjectType;
+
+// A scene around a 1 x 1 m object in the plane x = 2 (facing the sensor at the origin), built
+// beam by beam with the labels the echo comparison would give.
+struct Scene
+{
+  std::vector<test::Beam> beams;
+  std::vector<std::pair<Label, Label>> labels;
+  std::mt19937 noise_source{ 7 };
+
+  // A real diffuse wall in the plane x = wall_x, |y| <= half_width, |z| <= 1, seen directly.
+  void addRealWall(float wall_x, float half_width)
+  {
+    for (float y = -half_width; y <= half_width; y += 0.02f)
+      for (float z = -1.0f; z <= 1.0f; z += 0.02f)
+        addSingleReturn(Eigen::Vector3f(wall_x, y, z));
+  }
+
+  void addSingleReturn(const Eigen::Vector3f& p)
+  {
+    beams.push_back({ p, p });
+    labels.emplace_back(Label::unchecked, Label::unchecked);
+  }
+
+  // A beam with a surface echo on the object and a far echo at `far` along the same ray.
+  void addDoubleEcho(const Eigen::Vector3f& far)
+  {
+    std::normal_distribution<float> noise(0.0f, 0.005f);
+    const Eigen::Vector3f direction = far.normalized();
+    const Eigen::Vector3f surface = direction * (2.0f / direction.x());
+    beams.push_back({ surface, far + direction * noise(noise_source) });
+    labels.emplace_back(Label::errorSurface, Label::error);
+  }
+
+  ObjectType analyze(core::ReflectiveObject& object) const
+  {
+    const core::Sweep sweep = test::makeSweep(beams);
+    core::SweepLabels sweep_labels;
+    sweep_labels.reset(sweep.beamCount());
+    for (std::size_t i = 0; i < labels.size(); ++i)
+    {
+      sweep_labels.echoes[0][i] = labels[i].first;
+      sweep_labels.echoes[1][i] = labels[i].second;
+    }
+    core::ObjectTypeAnalyzer analyzer;
+    analyzer.analyze(sweep, core::Params(), sweep_labels, object);
+    return object.type;
+  }
+};
+
+core::ReflectiveObject objectAtTwoMetres()
+{
+  return test::wallObject(2.0f, 1.0f, 1.0f);
+}
+
+TEST(ObjectType, PhantomsThatMirrorOntoTheRealSceneMakeAMirror)
+{
+  Scene scene;
+  scene.addRealWall(-1.0f, 1.5f);
+  // What the mirror shows: the wall at x = -1 reflected across x = 2, i.e. at x = 5.
+  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
+    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
+      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(scene.analyze(object), ObjectType::mirror);
+  EXPECT_GT(object.evidence.mirrored_points, 1000u);
+  EXPECT_GT(object.evidence.inlier_fraction, 0.9f);
+  EXPECT_LT(object.evidence.icp_fitness, 0.001f);
+  EXPECT_TRUE(object.evidence.icp_converged);
+}
+
+TEST(ObjectType, RealPointsBehindThatDoNotMirrorOntoTheSceneMakeGlass)
+{
+  Scene scene;
+  // Behind the pane a wall at x = 5; in front the sensor sees a wall at x = -2, so the space
+  // at x = -1 where the mirrored points would land is free.
+  scene.addRealWall(-2.0f, 3.0f);
+  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
+    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
+      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(scene.analyze(object), ObjectType::glass);
+  EXPECT_LT(object.evidence.inlier_fraction, 0.5f);
+}
+
+TEST(ObjectType, AWallWhereThePhantomsShouldLandButShiftedMakesGlass)
+{
+  Scene scene;
+  // A real wall 30 cm beyond where a mirror image would be, tilted: no good registration.
+  for (float y = -1.5f; y <= 1.5f; y += 0.02f)
+    for (float z = -1.0f; z <= 1.0f; z += 0.02f)
+      scene.addSingleReturn(Eigen::Vector3f(-1.3f - 0.3f * y, y, z));
+  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
+    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
+      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(scene.analyze(object), ObjectType::glass);
+}
+
+TEST(ObjectType, TooFewPointsBehindLeaveTheTypeUnknown)
+{
+  Scene scene;
+  scene.addRealWall(-1.0f, 1.5f);
+  for (int i = 0; i < 10; ++i)
+    scene.addDoubleEcho(Eigen::Vector3f(5.0f, 0.05f * i, 0.0f));
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(scene.analyze(object), ObjectType::unknown);
+  EXPECT_EQ(object.evidence.mirrored_points, 10u);
+}
+
+TEST(ObjectType, NothingSeenWhereThePhantomsLandLeavesTheTypeUnknown)
+{
+  // A mirror facing open space: the sensor saw nothing in the directions of the mirrored
+  // points, so neither a match nor a contradiction is possible.
+  Scene scene;
+  for (float z = -1.0f; z <= 1.0f; z += 0.02f)
+    for (float x = -1.0f; x <= 1.0f; x += 0.02f)
+      scene.addSingleReturn(Eigen::Vector3f(x, 4.0f, z));  // a wall off to the side only
+  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
+    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
+      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(scene.analyze(object), ObjectType::unknown);
+  EXPECT_GT(object.evidence.mirrored_points, 1000u);
+}
+
+TEST(ObjectType, OnlyPointsInsideTheVisionConeCount)
+{
+  Scene scene;
+  scene.addRealWall(-1.0f, 1.5f);
+  // Far echoes beside the object (outside its cone) are not its phantoms.
+  for (float z = -1.0f; z <= 1.0f; z += 0.03f)
+    scene.addDoubleEcho(Eigen::Vector3f(5.0f, 3.0f, z));
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(scene.analyze(object), ObjectType::unknown);
+  EXPECT_EQ(object.evidence.mirrored_points, 0u);
+}
+
+}  // namespace
+}  // namespace ohm_mirror_detector3d
