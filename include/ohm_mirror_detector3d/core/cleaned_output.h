@@ -24,8 +24,8 @@ struct OutputPoint
 
 // Fills `cleaned` (cleared first, capacity kept) with every point whose label is kept
 // for mapping, in beam order, echo 1 before echo 2; a behindReflective point is
-// back-projected across the plane of its own mirror (assignment) to where the object it
-// shows really is. A single-return beam that repeats its return in echo 2 (same position,
+// back-projected (reflected) across the plane of its own mirror (assignment) to where the
+// object it shows really is. A single-return beam that repeats its return in echo 2 (same position,
 // as the Hokuyo3D driver and the simulator publish it) contributes it once, so mapping
 // does not count it twice.
 void collectCleaned(const Sweep& sweep, const SweepLabels& labels, const std::vector<ReflectiveObject>& objects,

@@ -32,8 +32,12 @@ public:
   //   within icp_max_distance of a real point after ICP, their mean squared distance is at
   //   most icp_fitness_threshold, and ICP moved them only a little (a real mirror's phantoms
   //   land on the real scene already: a large correction means ICP fitted something else);
-  // - glass otherwise: the sensor looked where the mirrored points land and saw something
-  //   else there (free space or other geometry).
+  //   the mirror's plane is then refined to the pure reflection nearest to what ICP found,
+  //   which back-projects phantoms far more accurately than the plane of the surface echoes;
+  // - glass when fewer than half of icp_min_inlier_fraction match, before and after ICP: the
+  //   sensor looked where the mirrored points land and saw something else there (free space
+  //   or other geometry);
+  // - unknown in between: ambiguous evidence is not turned into a confident call.
   void analyze(const Sweep& sweep, const Params& params, const SweepLabels& labels, ReflectiveObject& object);
 
 private:

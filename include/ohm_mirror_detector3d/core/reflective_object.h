@@ -76,6 +76,7 @@ struct ReflectiveObject
   {
     return p - 2.0f * signedDistance(p) * plane.head<3>();
   }
+
 };
 
 }  // namespace core

@@ -1,0 +1,198 @@
+#!/usr/bin/python3
+"""rostest checker: simulated scenes through the real pre-filter, scored by the evaluator.
+
+Each scene of the simulator is synthesised (rotating Hokuyo, ~scans scans, noise 1 cm, fixed
+seed), published as an EchoPair to the running pre-filter, and its labelled, cleaned and
+objects outputs are scored against the ground truth. The assertions are the acceptance
+criteria of the single-sweep pre-filter. With ~report DIR it also writes the result table
+(results.md, results.json) used in the README.
+"""
+import json
+import os
+import sys
+import unittest
+
+import numpy as np
+import rospy
+import rostest
+from sensor_msgs.msg import PointCloud2
+
+from ohm_mirror_detector3d import scene as scenes
+from ohm_mirror_detector3d.metrics import evaluate_sweep, strip_raw
+from ohm_mirror_detector3d.msg import EchoPair, ReflectiveObjectArray
+from ohm_mirror_detector3d.ros_io import filter_output_from_msgs, ground_truth_objects, sweep_to_messages
+from ohm_mirror_detector3d.scanner import RotatingHokuyo
+from ohm_mirror_detector3d.simulate import simulate_sweep
+
+MIRROR, GLASS, UNKNOWN = 1, 2, 0
+TYPE_NAMES = {UNKNOWN: 'unknown', MIRROR: 'mirror', GLASS: 'glass'}
+
+# The paper's detected sizes (width x height, m) for the README comparison.
+PAPER_SIZES = {('experiment1', 0): (0.605, 0.419), ('experiment3', 0): (0.59, 0.39),
+               ('experiment3', 1): (0.62, 0.40), ('experiment4', 0): (0.64, 0.57)}
+
+
+class FilterClient:
+    """Publishes sweeps to the pre-filter and waits for its three outputs of the same stamp."""
+
+    def __init__(self):
+        self.outputs = {}
+        self.subscribers = [rospy.Subscriber(topic, kind, self.on_output, callback_args=topic, queue_size=5)
+                            for topic, kind in (('labelled', PointCloud2), ('cleaned', PointCloud2),
+                                                ('objects', ReflectiveObjectArray))]
+        self.publisher = rospy.Publisher('input', EchoPair, queue_size=1)
+
+    def on_output(self, msg, topic):
+        self.outputs.setdefault(msg.header.stamp, {})[topic] = msg
+
+    def run(self, sweep, timeout=60.0):
+        stamp = rospy.Time.now()
+        messages = sweep_to_messages(sweep, stamp)
+        deadline = rospy.Time.now() + rospy.Duration(timeout)
+        # The pre-filter subscribes lazily: wait until it listens before sending the sweep.
+        while self.publisher.get_num_connections() == 0 and rospy.Time.now() < deadline:
+            rospy.sleep(0.1)
+        self.publisher.publish(messages['echo_pair'])
+        while len(self.outputs.get(stamp, {})) < 3 and rospy.Time.now() < deadline:
+            rospy.sleep(0.05)
+        got = self.outputs.pop(stamp, {})
+        if len(got) < 3:
+            raise AssertionError('no complete answer from the pre-filter for %s within %.0f s (got %s)'
+                                 % (sweep.scene_name, timeout, sorted(got)))
+        output = filter_output_from_msgs(got['labelled'], got['cleaned'], got['objects'])
+        return evaluate_sweep(sweep.ground_truth, output['labelled'], output['cleaned'], output['objects'],
+                              ground_truth_objects(sweep))
+
+
+def labelled_as(result, label_name):
+    """How many points of the sweep the filter gave this label (confusion column sum)."""
+    confusion = result['confusion']
+    column = confusion['cols'].index(label_name)
+    return sum(row[column] for row in confusion['matrix'])
+
+
+def run_scene(client, name, scans, seed):
+    sweep = simulate_sweep(scenes.get(name), RotatingHokuyo(scans=scans, range_noise=0.01), seed=seed)
+    return strip_raw(client.run(sweep))
+
+
+def result_rows(name, result):
+    """Markdown rows of one scene: one per ground-truth object (or one for the scene)."""
+    rows = []
+    common = '%.2f %% | %.2f %% | %s' % (
+        100 * result['phantom_wrong_place_fraction'] if result['counts']['phantoms'] else 0.0,
+        100 * result['real_lost_fraction'],
+        '%.1f' % (100 * result['backprojection_error']['median'])
+        if result['backprojection_error'].get('count') else '–')
+    for match in result.get('objects', []) or [None]:
+        if match is None:
+            rows.append('| %s | – | – | – | – | %s | %d |' % (name, common, len(result['false_positive_objects'])))
+            continue
+        truth = '%s %.0f x %.0f' % (TYPE_NAMES[match['truth_type']], 100 * match['truth_width'],
+                                    100 * match['truth_height'])
+        paper = PAPER_SIZES.get((name, match['truth_id']))
+        paper = '%.1f x %.1f' % (100 * paper[0], 100 * paper[1]) if paper else '–'
+        found = ('%s %.1f x %.1f' % (TYPE_NAMES[match['detected_type']], 100 * match['detected_width'],
+                                     100 * match['detected_height'])) if match['matched'] else 'not found'
+        rows.append('| %s | %s | %s | %s | %s | %s | %d |' % (
+            name, truth, found, paper,
+            '%.1f' % (100 * match['corner_error_max']) if match['matched'] else '–', common,
+            len(result['false_positive_objects'])))
+    return rows
+
+
+TABLE_HEADER = ['| scene | object (truth, cm) | detected (cm) | paper (cm) | max corner error (cm) '
+                '| phantoms at a wrong place | real points lost | back-projection median (cm) | false objects |',
+                '|---|---|---|---|---|---|---|---|---|']
+
+
+class Scenes(unittest.TestCase):
+    results = {}
+
+    @classmethod
+    def setUpClass(cls):
+        cls.client = FilterClient()
+        cls.scans = rospy.get_param('~scans', 300)
+        cls.seed = rospy.get_param('~seed', 1)
+
+    @classmethod
+    def tearDownClass(cls):
+        report = rospy.get_param('~report', '')
+        if report:
+            os.makedirs(report, exist_ok=True)
+            lines = list(TABLE_HEADER)
+            for name, result in cls.results.items():
+                lines += result_rows(name, result)
+            with open(os.path.join(report, 'results.md'), 'w') as f:
+                f.write('\n'.join(lines) + '\n')
+            with open(os.path.join(report, 'results.json'), 'w') as f:
+                json.dump(cls.results, f, indent=1, default=float)
+            print('\n'.join(lines))
+
+    def scene(self, name):
+        if name not in self.results:
+            self.results[name] = run_scene(self.client, name, self.scans, self.seed)
+        return self.results[name]
+
+    def assert_object(self, match, kind, tolerance):
+        self.assertTrue(match['matched'], 'object %s not found' % match['truth_name'])
+        self.assertEqual(match['detected_type'], kind, 'object %s: wrong type' % match['truth_name'])
+        if tolerance is not None:
+            self.assertLessEqual(abs(match['width_error']), tolerance, match)
+            self.assertLessEqual(abs(match['height_error']), tolerance, match)
+
+    def test_experiment1_one_mirror_measured_within_2cm_and_its_phantoms_back_projected(self):
+        r = self.scene('experiment1')
+        self.assertEqual(len(r['objects']), 1)
+        self.assert_object(r['objects'][0], MIRROR, 0.02)
+        self.assertEqual(r['false_positive_objects'], [])
+        self.assertLessEqual(r['phantom_wrong_place_fraction'], 0.01)
+        self.assertLessEqual(r['real_lost_fraction'], 0.005)
+        self.assertLess(r['backprojection_error']['median'], 0.03)
+
+    def test_experiment2_glass_door_is_glass_and_points_behind_it_are_kept(self):
+        r = self.scene('experiment2')
+        found = [m for m in r['objects'] if m['matched']]
+        self.assertTrue(found, 'the glass door was not found')
+        for match in found:
+            self.assertEqual(match['detected_type'], GLASS, match)
+        # The filter makes no phantom of its own: nothing is labelled behind a mirror and moved.
+        self.assertEqual(labelled_as(r, 'behind_reflective'), 0)
+        # What is behind the glass goes to mapping (a few isolated far returns are outliers).
+        behind = r['ground_truth_counts']['behind_transparent']
+        self.assertLessEqual(r['real_lost_by_label'].get('behind_transparent', 0), 0.005 * behind)
+
+    def test_experiment3_both_mirrors_found_within_2cm(self):
+        r = self.scene('experiment3')
+        self.assertEqual(len(r['objects']), 2)
+        for match in r['objects']:
+            self.assert_object(match, MIRROR, 0.02)
+
+    def test_experiment4_mirror_within_3cm_without_floor_merged(self):
+        r = self.scene('experiment4')
+        self.assert_object(r['objects'][0], MIRROR, 0.03)
+
+    def test_empty_room_has_no_object_and_loses_no_real_point(self):
+        r = self.scene('empty_room')
+        self.assertEqual(r['false_positive_objects'], [])
+        self.assertEqual(r['counts']['real_lost'], 0)
+
+    def test_mirror_facing_open_space_is_not_called_glass(self):
+        r = self.scene('mirror_open_space')
+        for match in r['objects']:
+            if match['matched']:
+                self.assertNotEqual(match['detected_type'], GLASS)
+        for false_object in r['false_positive_objects']:
+            self.assertNotEqual(false_object['detected_type'], GLASS)
+
+    def test_mirror_and_glass_each_found_with_its_own_type_and_phantoms_back_projected(self):
+        r = self.scene('mirror_and_glass')
+        kinds = {m['truth_type']: m for m in r['objects']}
+        self.assert_object(kinds[MIRROR], MIRROR, None)
+        self.assert_object(kinds[GLASS], GLASS, None)
+        self.assertLessEqual(r['phantom_wrong_place_fraction'], 0.01)
+
+
+if __name__ == '__main__':
+    rospy.init_node('check_scenes')
+    rostest.rosrun('ohm_mirror_detector3d', 'scenes', Scenes)
