@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """rostest checker: publishes the hand-made EchoPair to a running pre-filter (node or
-nodelet, whichever the .test started) and checks `labelled` and `cleaned`."""
+nodelet, whichever the .test started) and checks `labelled` and `cleaned`. With
+~input_mode two_topics it publishes the two echo clouds on `echo1` and `echo2` instead."""
 import os
 import sys
 import unittest
@@ -25,12 +26,18 @@ class PairLabels(unittest.TestCase):
         cls.outputs = {}
         subscribers = [rospy.Subscriber(topic, PointCloud2, cls.outputs.setdefault(topic, []).append)
                        for topic in ('labelled', 'cleaned')]
-        publisher = rospy.Publisher('input', EchoPair, queue_size=1)
         cls.header = Header(frame_id='laser_optical_centre', stamp=rospy.Time(1234, 5678))
+        pair = make_pair(cls.header)
+        if rospy.get_param('~input_mode', 'pair') == 'two_topics':
+            publishers = [(rospy.Publisher('echo1', PointCloud2, queue_size=1), pair.echo1),
+                          (rospy.Publisher('echo2', PointCloud2, queue_size=1), pair.echo2)]
+        else:
+            publishers = [(rospy.Publisher('input', EchoPair, queue_size=1), pair)]
         deadline = rospy.Time.now() + rospy.Duration(20.0)
         # The pre-filter subscribes lazily once it sees our subscribers: publish until it answers.
         while not all(cls.outputs[t] for t in cls.outputs) and rospy.Time.now() < deadline:
-            publisher.publish(make_pair(cls.header))
+            for publisher, message in publishers:
+                publisher.publish(message)
             rospy.sleep(0.3)
         for subscriber in subscribers:
             subscriber.unregister()

@@ -16,6 +16,7 @@ import numpy as np
 import rospy
 import rostest
 from sensor_msgs.msg import PointCloud2
+from visualization_msgs.msg import Marker, MarkerArray
 
 from ohm_mirror_detector3d import scene as scenes
 from ohm_mirror_detector3d.metrics import evaluate_sweep, strip_raw
@@ -39,11 +40,12 @@ class FilterClient:
         self.outputs = {}
         self.subscribers = [rospy.Subscriber(topic, kind, self.on_output, callback_args=topic, queue_size=5)
                             for topic, kind in (('labelled', PointCloud2), ('cleaned', PointCloud2),
-                                                ('objects', ReflectiveObjectArray))]
+                                                ('objects', ReflectiveObjectArray), ('markers', MarkerArray))]
         self.publisher = rospy.Publisher('input', EchoPair, queue_size=1)
 
     def on_output(self, msg, topic):
-        self.outputs.setdefault(msg.header.stamp, {})[topic] = msg
+        stamp = msg.markers[0].header.stamp if topic == 'markers' else msg.header.stamp
+        self.outputs.setdefault(stamp, {})[topic] = msg
 
     def run(self, sweep, timeout=60.0):
         stamp = rospy.Time.now()
@@ -53,15 +55,17 @@ class FilterClient:
         while self.publisher.get_num_connections() == 0 and rospy.Time.now() < deadline:
             rospy.sleep(0.1)
         self.publisher.publish(messages['echo_pair'])
-        while len(self.outputs.get(stamp, {})) < 3 and rospy.Time.now() < deadline:
+        while len(self.outputs.get(stamp, {})) < 4 and rospy.Time.now() < deadline:
             rospy.sleep(0.05)
         got = self.outputs.pop(stamp, {})
-        if len(got) < 3:
+        if len(got) < 4:
             raise AssertionError('no complete answer from the pre-filter for %s within %.0f s (got %s)'
                                  % (sweep.scene_name, timeout, sorted(got)))
         output = filter_output_from_msgs(got['labelled'], got['cleaned'], got['objects'])
-        return evaluate_sweep(sweep.ground_truth, output['labelled'], output['cleaned'], output['objects'],
-                              ground_truth_objects(sweep))
+        result = evaluate_sweep(sweep.ground_truth, output['labelled'], output['cleaned'], output['objects'],
+                                ground_truth_objects(sweep))
+        result['_messages'] = got
+        return result
 
 
 def labelled_as(result, label_name):
@@ -72,8 +76,11 @@ def labelled_as(result, label_name):
 
 
 def run_scene(client, name, scans, seed):
+    """The evaluator's result (JSON-friendly) and the pre-filter's messages of one scene."""
     sweep = simulate_sweep(scenes.get(name), RotatingHokuyo(scans=scans, range_noise=0.01), seed=seed)
-    return strip_raw(client.run(sweep))
+    result = client.run(sweep)
+    messages = result.pop('_messages')
+    return strip_raw(result), messages
 
 
 def result_rows(name, result):
@@ -108,6 +115,7 @@ TABLE_HEADER = ['| scene | object (truth, cm) | detected (cm) | paper (cm) | max
 
 class Scenes(unittest.TestCase):
     results = {}
+    messages = {}
 
     @classmethod
     def setUpClass(cls):
@@ -131,7 +139,7 @@ class Scenes(unittest.TestCase):
 
     def scene(self, name):
         if name not in self.results:
-            self.results[name] = run_scene(self.client, name, self.scans, self.seed)
+            self.results[name], self.messages[name] = run_scene(self.client, name, self.scans, self.seed)
         return self.results[name]
 
     def assert_object(self, match, kind, tolerance):
@@ -149,6 +157,30 @@ class Scenes(unittest.TestCase):
         self.assertLessEqual(r['phantom_wrong_place_fraction'], 0.01)
         self.assertLessEqual(r['real_lost_fraction'], 0.005)
         self.assertLess(r['backprojection_error']['median'], 0.03)
+
+    def test_objects_and_markers_describe_the_mirror_in_the_input_frame(self):
+        self.scene('experiment1')
+        objects, markers = self.messages['experiment1']['objects'], self.messages['experiment1']['markers']
+        self.assertEqual(objects.header.frame_id, 'laser')
+        self.assertEqual(len(objects.objects), 1)
+        mirror = objects.objects[0]
+        self.assertEqual(mirror.type, mirror.TYPE_MIRROR)
+        self.assertGreater(mirror.surface_points, 500)
+        self.assertGreater(mirror.behind_points, 500)
+        self.assertGreater(mirror.inlier_fraction, 0.5)
+        self.assertAlmostEqual(float(np.linalg.norm(mirror.plane[:3])), 1.0, places=4)
+        corners = np.array([[c.x, c.y, c.z] for c in mirror.corners])
+        np.testing.assert_allclose(np.abs(np.dot(corners, mirror.plane[:3]) + mirror.plane[3]), 0.0, atol=1e-3)
+        # Stale markers go first, then an outline (closed, 5 points) and a text per object.
+        self.assertEqual(markers.markers[0].action, Marker.DELETEALL)
+        outline = [m for m in markers.markers if m.type == Marker.LINE_STRIP]
+        texts = [m for m in markers.markers if m.type == Marker.TEXT_VIEW_FACING]
+        self.assertEqual(len(outline), 1)
+        self.assertEqual(len(outline[0].points), 5)
+        self.assertEqual(outline[0].header.frame_id, 'laser')
+        np.testing.assert_allclose([[p.x, p.y, p.z] for p in outline[0].points[:4]], corners, atol=1e-5)
+        self.assertEqual(len(texts), 1)
+        self.assertIn('mirror', texts[0].text)
 
     def test_experiment2_glass_door_is_glass_and_points_behind_it_are_kept(self):
         r = self.scene('experiment2')
