@@ -29,7 +29,7 @@ MIRROR, GLASS, UNKNOWN = 1, 2, 0
 TYPE_NAMES = {UNKNOWN: 'unknown', MIRROR: 'mirror', GLASS: 'glass'}
 
 # The paper's detected sizes (width x height, m) for the README comparison.
-PAPER_SIZES = {('experiment1', 0): (0.605, 0.419), ('experiment3', 0): (0.59, 0.39),
+PAPER_SIZES = {('experiment1', 0): (0.605, 0.419), ('experiment2', 0): (0.311, 0.239), ('experiment3', 0): (0.59, 0.39),
                ('experiment3', 1): (0.62, 0.40), ('experiment4', 0): (0.64, 0.57)}
 
 
