@@ -19,6 +19,15 @@ def _pyplot():
     return plt
 
 
+def _save(plt, fig, path, title):
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def _scatter(ax, u, v, labels, max_points, rng):
     for lab in _DRAW_ORDER:
         m = np.flatnonzero(labels == lab)
@@ -84,12 +93,7 @@ def plot_views(xyz, labels, path, title='', ground_truth_objects=(), detected_ob
         ax.set_title('non-valid points, plane of object %s edge-on' % objects[0].get('name', objects[0].get('id', 0)))
         ax.set_xlabel('depth behind the plane [m]')
         ax.set_ylabel('height along the plane [m]')
-    if title:
-        fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path, title)
 
 
 def plot_echoes(echo1_xyz, echo2_xyz, path, title=''):
@@ -105,9 +109,4 @@ def plot_echoes(echo1_xyz, echo2_xyz, path, title=''):
         ax.set_xlabel('xyz'[i] + ' [m]')
         ax.set_ylabel('xyz'[j] + ' [m]')
     axes[0].legend(markerscale=10)
-    if title:
-        fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path, title)

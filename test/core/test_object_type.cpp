@@ -47,6 +47,14 @@ struct Scene
     labels.emplace_back(Label::errorSurface, Label::error);
   }
 
+  // Double echoes through the object of every point of a wall at x = far_x (|y| <= 1.2, |z| <= 1).
+  void addDoubleEchoesSeeing(float far_x)
+  {
+    for (float y = -1.2f; y <= 1.2f; y += 0.03f)
+      for (float z = -1.0f; z <= 1.0f; z += 0.03f)
+        addDoubleEcho(Eigen::Vector3f(far_x, y, z));
+  }
+
   ObjectType analyze(core::ReflectiveObject& object) const
   {
     const core::Sweep sweep = test::makeSweep(beams);
@@ -73,9 +81,7 @@ TEST(ObjectType, PhantomsThatMirrorOntoTheRealSceneMakeAMirror)
   Scene scene;
   scene.addRealWall(-1.0f, 1.5f);
   // What the mirror shows: the wall at x = -1 reflected across x = 2, i.e. at x = 5.
-  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
-    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
-      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  scene.addDoubleEchoesSeeing(5.0f);
   core::ReflectiveObject object = objectAtTwoMetres();
   EXPECT_EQ(scene.analyze(object), ObjectType::mirror);
   EXPECT_GT(object.evidence.mirrored_points, 1000u);
@@ -90,9 +96,7 @@ TEST(ObjectType, RealPointsBehindThatDoNotMirrorOntoTheSceneMakeGlass)
   // Behind the pane a wall at x = 5; in front the sensor sees a wall at x = -2, so the space
   // at x = -1 where the mirrored points would land is free.
   scene.addRealWall(-2.0f, 3.0f);
-  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
-    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
-      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  scene.addDoubleEchoesSeeing(5.0f);
   core::ReflectiveObject object = objectAtTwoMetres();
   EXPECT_EQ(scene.analyze(object), ObjectType::glass);
   EXPECT_LT(object.evidence.inlier_fraction, 0.5f);
@@ -105,9 +109,7 @@ TEST(ObjectType, AWallNearWhereThePhantomsShouldLandIsNoMirror)
   for (float y = -1.5f; y <= 1.5f; y += 0.02f)
     for (float z = -1.0f; z <= 1.0f; z += 0.02f)
       scene.addSingleReturn(Eigen::Vector3f(-1.3f - 0.3f * y, y, z));
-  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
-    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
-      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  scene.addDoubleEchoesSeeing(5.0f);
   core::ReflectiveObject object = objectAtTwoMetres();
   // Some mirrored points land near the tilted wall: no mirror, but no clear glass either.
   EXPECT_NE(scene.analyze(object), ObjectType::mirror);
@@ -119,9 +121,7 @@ TEST(ObjectType, RefinesAMirrorsPlaneToWhereItsPhantomsLandOnTheRealScene)
   // the mirror would come back 5 cm off. The refined plane must put them back.
   Scene scene;
   scene.addRealWall(-1.0f, 1.5f);
-  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
-    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
-      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  scene.addDoubleEchoesSeeing(5.0f);
   core::ReflectiveObject object = objectAtTwoMetres();
   const float tilt = 0.5f * static_cast<float>(M_PI) / 180.0f;
   object.plane = Eigen::Vector4f(-std::cos(tilt), std::sin(tilt), 0.0f, 2.01f);
@@ -153,9 +153,7 @@ TEST(ObjectType, NothingSeenWhereThePhantomsLandLeavesTheTypeUnknown)
   for (float z = -1.0f; z <= 1.0f; z += 0.02f)
     for (float x = -1.0f; x <= 1.0f; x += 0.02f)
       scene.addSingleReturn(Eigen::Vector3f(x, 4.0f, z));  // a wall off to the side only
-  for (float y = -1.2f; y <= 1.2f; y += 0.03f)
-    for (float z = -1.0f; z <= 1.0f; z += 0.03f)
-      scene.addDoubleEcho(Eigen::Vector3f(5.0f, y, z));
+  scene.addDoubleEchoesSeeing(5.0f);
   core::ReflectiveObject object = objectAtTwoMetres();
   EXPECT_EQ(scene.analyze(object), ObjectType::unknown);
   EXPECT_GT(object.evidence.mirrored_points, 1000u);
