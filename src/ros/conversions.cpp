@@ -190,6 +190,7 @@ std::string echoCloudsToSweep(const sensor_msgs::PointCloud2& echo1, const senso
   sweep.rows = echo1.height;
   sweep.cols = echo1.width;
   sweep.has_intensity = intensity1 && intensity2;
+  sweep.input_cells.clear();
   sweep.origin.setZero();
   sweep.computeRanges();
   return "";
@@ -204,6 +205,20 @@ void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, c
                      sensor_msgs::PointCloud2& cloud)
 {
   const std::size_t beams = sweep.beamCount();
+  if (!sweep.input_cells.empty())
+  {
+    // The input's own order and count (a dual-return cloud), so labels join back onto it.
+    prepareOutputCloud(header, sweep.input_cells.size(), cloud);
+    std::uint8_t* out = cloud.data.data();
+    for (const core::PointRef& cell : sweep.input_cells)
+    {
+      const core::EchoCloud& echo = sweep.echoes[cell.echo];
+      writePoint(out, echo.points[cell.beam], echo.intensities[cell.beam], labels.echoes[cell.echo][cell.beam],
+                 static_cast<std::uint8_t>(cell.echo + 1), cell.beam);
+      out += kOutputPointStep;
+    }
+    return;
+  }
   prepareOutputCloud(header, 2 * beams, cloud);
   std::uint8_t* out = cloud.data.data();
   for (std::size_t k = 0; k < 2; ++k)

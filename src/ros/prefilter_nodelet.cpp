@@ -1,13 +1,11 @@
 #include "ohm_mirror_detector3d/ros/prefilter_nodelet.h"
 
 #include <pluginlib/class_list_macros.hpp>
-#include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
 #include <stdexcept>
 #include <vector>
 
-#include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
@@ -155,7 +153,7 @@ void PreFilterNodelet::onReconfigure(PreFilterConfig& config, std::uint32_t /*le
 void PreFilterNodelet::onEchoPair(const EchoPair::ConstPtr& pair)
 {
   std::lock_guard<std::mutex> lock(pipeline_mutex_);
-  const std::string problem = ros_io::echoPairToSweep(*pair, sweep_);
+  const std::string problem = ros_io::echoPairToSweep(*pair, pipeline_.sweep());
   if (!problem.empty())
   {
     NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
@@ -168,7 +166,7 @@ void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& ec
                                     const sensor_msgs::PointCloud2::ConstPtr& echo2)
 {
   std::lock_guard<std::mutex> lock(pipeline_mutex_);
-  const std::string problem = ros_io::echoCloudsToSweep(*echo1, *echo2, sweep_);
+  const std::string problem = ros_io::echoCloudsToSweep(*echo1, *echo2, pipeline_.sweep());
   if (!problem.empty())
   {
     NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << echo1_sub_.getTopic() << " + "
@@ -181,31 +179,21 @@ void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& ec
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
 {
-  const core::PipelineResult& result = pipeline_.process(sweep_);
-  if (labelled_pub_.getNumSubscribers() > 0)
-  {
-    sensor_msgs::PointCloud2Ptr labelled(new sensor_msgs::PointCloud2);
-    ros_io::toLabelledCloud(header, sweep_, result.labels, *labelled);
-    labelled_pub_.publish(labelled);
-  }
-  if (cleaned_pub_.getNumSubscribers() > 0)
-  {
-    sensor_msgs::PointCloud2Ptr cleaned(new sensor_msgs::PointCloud2);
-    ros_io::toCleanedCloud(header, result.cleaned, *cleaned);
-    cleaned_pub_.publish(cleaned);
-  }
-  if (objects_pub_.getNumSubscribers() > 0)
-  {
-    ReflectiveObjectArrayPtr objects(new ReflectiveObjectArray);
-    ros_io::toObjectArray(header, result.objects, *objects);
-    objects_pub_.publish(objects);
-  }
-  if (markers_pub_.getNumSubscribers() > 0)
-  {
-    visualization_msgs::MarkerArrayPtr markers(new visualization_msgs::MarkerArray);
-    ros_io::toMarkers(header, result.objects, *markers);
-    markers_pub_.publish(markers);
-  }
+  ros_io::OutputRequest request;
+  request.labelled = labelled_pub_.getNumSubscribers() > 0;
+  request.cleaned = cleaned_pub_.getNumSubscribers() > 0;
+  request.objects = objects_pub_.getNumSubscribers() > 0;
+  request.markers = markers_pub_.getNumSubscribers() > 0;
+  ros_io::OutputMessages outputs;
+  pipeline_.process(header, request, outputs);
+  if (outputs.labelled)
+    labelled_pub_.publish(outputs.labelled);
+  if (outputs.cleaned)
+    cleaned_pub_.publish(outputs.cleaned);
+  if (outputs.objects)
+    objects_pub_.publish(outputs.objects);
+  if (outputs.markers)
+    markers_pub_.publish(outputs.markers);
 }
 
 }  // namespace ohm_mirror_detector3d

@@ -7,6 +7,8 @@
 #include <limits>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/sweep.h"
+
 namespace ohm_mirror_detector3d
 {
 namespace core
@@ -19,13 +21,6 @@ enum class ObjectType : std::uint8_t
 };
 
 const char* objectTypeName(ObjectType type);
-
-// One point of a sweep: echo (0 or 1) and beam index.
-struct PointRef
-{
-  std::uint32_t beam;
-  std::uint8_t echo;
-};
 
 // Why the type decision came out as it did (see analyzeObjectType).
 struct TypeEvidence

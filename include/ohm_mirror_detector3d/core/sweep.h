@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <cstddef>
 #include <vector>
 
@@ -26,6 +27,13 @@ struct EchoCloud
 // Beams on a grid of rows x cols, beam index = row * cols + col (row-major, as an
 // organised PointCloud2). Echo k of beam i is echoes[k].points[i]; the two echoes of a
 // beam may arrive in either order (the stages sort it out by range).
+// One point of a sweep: echo (0 or 1) and beam index.
+struct PointRef
+{
+  std::uint32_t beam;
+  std::uint8_t echo;
+};
+
 struct Sweep
 {
   std::size_t rows = 0;
@@ -33,6 +41,11 @@ struct Sweep
   Eigen::Vector3f origin = Eigen::Vector3f::Zero();  // scanner optical centre in the sweep frame
   bool has_intensity = false;
   std::array<EchoCloud, 2> echoes;
+
+  // For inputs whose points are not simply echo 1 then echo 2 in beam order (a dual-return
+  // cloud), the cell of every input point, in input order, so that outputs can keep the
+  // input's order and count. Empty when the input is two index-aligned echo clouds.
+  std::vector<PointRef> input_cells;
 
   std::size_t beamCount() const { return rows * cols; }
 

@@ -33,7 +33,8 @@ std::string echoPairToSweep(const EchoPair& pair, core::Sweep& sweep);
 std::string echoCloudsToSweep(const sensor_msgs::PointCloud2& echo1, const sensor_msgs::PointCloud2& echo2,
                               core::Sweep& sweep);
 
-// Every point of both echoes (echo 1 first, then echo 2, each in beam order), fields
+// Every point of both echoes (echo 1 first, then echo 2, each in beam order; or, when the
+// sweep has input_cells, the input's points in the input's order), fields
 // x y z intensity label echo beam, positions as measured.
 void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, const core::SweepLabels& labels,
                      sensor_msgs::PointCloud2& cloud);

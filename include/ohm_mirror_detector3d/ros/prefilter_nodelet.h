@@ -15,7 +15,7 @@
 
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
-#include "ohm_mirror_detector3d/core/pipeline.h"
+#include "ohm_mirror_detector3d/ros/message_pipeline.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -52,11 +52,10 @@ private:
   message_filters::Subscriber<sensor_msgs::PointCloud2> echo2_sub_;
   std::unique_ptr<EchoSync> echo_sync_;
 
-  // Guards the pipeline and the sweep buffer: reconfigure runs on another thread than
+  // Guards the pipeline and its sweep buffer: reconfigure runs on another thread than
   // the input callbacks.
   std::mutex pipeline_mutex_;
-  core::Pipeline pipeline_;
-  core::Sweep sweep_;
+  ros_io::MessagePipeline pipeline_;
 
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<PreFilterConfig>> reconfigure_server_;

@@ -1,0 +1,58 @@
+// The pre-filter on ROS messages: an input adapter fills sweep(), process() runs the core
+// pipeline and builds the output messages. The nodelet and prefilter_bag both use it, so
+// they run exactly the same code.
+#pragma once
+
+#include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
+#include "ohm_mirror_detector3d/core/pipeline.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace ros_io
+{
+// Which outputs to build (a nodelet builds only those somebody listens to).
+struct OutputRequest
+{
+  bool labelled = true;
+  bool cleaned = true;
+  bool objects = true;
+  bool markers = true;
+};
+
+// Output messages of one sweep; those not requested stay null.
+struct OutputMessages
+{
+  sensor_msgs::PointCloud2Ptr labelled;
+  sensor_msgs::PointCloud2Ptr cleaned;
+  ReflectiveObjectArrayPtr objects;
+  visualization_msgs::MarkerArrayPtr markers;
+};
+
+class MessagePipeline
+{
+public:
+  // Throws std::invalid_argument naming every bad value (core::Pipeline).
+  explicit MessagePipeline(const core::Params& params = core::Params());
+
+  // Same check; on failure the previous parameters stay in force.
+  void setParams(const core::Params& params) { pipeline_.setParams(params); }
+
+  // The sweep the input adapters fill; reused from message to message.
+  core::Sweep& sweep() { return sweep_; }
+
+  // Runs the pipeline on sweep() and builds the requested outputs, stamped and framed with
+  // `header`. The result is valid until the next call.
+  const core::PipelineResult& process(const std_msgs::Header& header, const OutputRequest& request,
+                                      OutputMessages& outputs);
+
+private:
+  core::Pipeline pipeline_;
+  core::Sweep sweep_;
+};
+
+}  // namespace ros_io
+}  // namespace ohm_mirror_detector3d
