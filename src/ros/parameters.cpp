@@ -35,30 +35,30 @@ const ParamName kParamNames[] = {
 
 // Reads `name` as T when present. Returns false and explains when it is present but not a T.
 template <typename T>
-bool readOne(const ros::NodeHandle& nh, const std::string& name, T& value, bool& present,
+bool readOne(const ParamSource& source, const std::string& name, T& value, bool& present,
              std::vector<std::string>& errors)
 {
-  present = nh.hasParam(name);
+  present = source.has(name);
   if (!present)
     return true;
-  if (nh.getParam(name, value))
+  if (source.get(name, value))
     return true;
-  // An integer given for a real parameter is fine; getParam(double) already accepts it.
-  errors.push_back("parameter " + nh.resolveName(name) + " has the wrong type: expected " +
+  // An integer given for a real parameter is fine; get(double) already accepts it.
+  errors.push_back("parameter " + source.describe(name) + " has the wrong type: expected " +
                    (std::is_same<T, int>::value ? "an integer" : "a number"));
   return false;
 }
 
 template <typename T>
-void readAliased(const ros::NodeHandle& nh, const ParamName& param, T& field, std::vector<std::string>& errors)
+void readAliased(const ParamSource& source, const ParamName& param, T& field, std::vector<std::string>& errors)
 {
   T by_ros_name = field;
   T by_paper_name = field;
   bool has_ros_name = false;
   bool has_paper_name = false;
-  const bool ok = readOne(nh, param.ros_name, by_ros_name, has_ros_name, errors) &
+  const bool ok = readOne(source, param.ros_name, by_ros_name, has_ros_name, errors) &
                   (param.paper_name == nullptr ||
-                   readOne(nh, param.paper_name, by_paper_name, has_paper_name, errors));
+                   readOne(source, param.paper_name, by_paper_name, has_paper_name, errors));
   if (!ok)
     return;
   if (has_ros_name && has_paper_name && by_ros_name != by_paper_name)
@@ -73,19 +73,37 @@ void readAliased(const ros::NodeHandle& nh, const ParamName& param, T& field, st
   else if (has_paper_name)
     field = by_paper_name;
 }
+// The parameter server, under the node's private namespace.
+class NodeHandleSource : public ParamSource
+{
+public:
+  explicit NodeHandleSource(const ros::NodeHandle& nh) : nh_(nh) {}
+  bool has(const std::string& name) const override { return nh_.hasParam(name); }
+  bool get(const std::string& name, double& value) const override { return nh_.getParam(name, value); }
+  bool get(const std::string& name, int& value) const override { return nh_.getParam(name, value); }
+  std::string describe(const std::string& name) const override { return nh_.resolveName(name); }
+
+private:
+  const ros::NodeHandle& nh_;
+};
 }  // namespace
 
-core::Params readParams(const ros::NodeHandle& private_nh, std::vector<std::string>& errors)
+core::Params readParams(const ParamSource& source, std::vector<std::string>& errors)
 {
   core::Params params;
   for (const ParamName& param : kParamNames)
   {
     if (param.real_field != nullptr)
-      readAliased(private_nh, param, params.*param.real_field, errors);
+      readAliased(source, param, params.*param.real_field, errors);
     else
-      readAliased(private_nh, param, params.*param.integer_field, errors);
+      readAliased(source, param, params.*param.integer_field, errors);
   }
   return params;
+}
+
+core::Params readParams(const ros::NodeHandle& private_nh, std::vector<std::string>& errors)
+{
+  return readParams(NodeHandleSource(private_nh), errors);
 }
 
 void writeParams(const ros::NodeHandle& private_nh, const core::Params& params)

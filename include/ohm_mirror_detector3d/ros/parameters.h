@@ -13,6 +13,24 @@ namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
+// Where pipeline parameters are read from: the parameter server (the nodelet) or a YAML
+// file (prefilter_bag). Both go through readParams below, so they accept the same names
+// and types and refuse bad values with the same messages.
+class ParamSource
+{
+public:
+  virtual ~ParamSource() = default;
+  virtual bool has(const std::string& name) const = 0;
+  // False when the value is not of that type (an integer is a number, a number is not an
+  // integer), as ros::NodeHandle::getParam.
+  virtual bool get(const std::string& name, double& value) const = 0;
+  virtual bool get(const std::string& name, int& value) const = 0;
+  // How messages name the parameter, e.g. its resolved name.
+  virtual std::string describe(const std::string& name) const = 0;
+};
+
+core::Params readParams(const ParamSource& source, std::vector<std::string>& errors);
+
 // Reads every pipeline parameter from `private_nh`, under its original launch file name
 // (e.g. `outlierFilter_searchRadius`) or its paper name (e.g. `r`); absent ones keep their
 // defaults. Appends to `errors` a message for each value that cannot be read (wrong type,
