@@ -1,0 +1,410 @@
+#include "ohm_mirror_detector3d/ros/bag_processor.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/exceptions.h>
+#include <rosbag/view.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include "ohm_mirror_detector3d/ros/message_pipeline.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace ros_io
+{
+namespace
+{
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// How often a dropped sweep is reported per reason before it is only counted.
+constexpr std::size_t kReportedDropsPerReason = 3;
+
+double secondsSince(Clock::time_point start)
+{
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// "  /topic  type  (N messages)" for every topic of the bag.
+std::string describeTopics(rosbag::Bag& bag)
+{
+  std::map<std::string, std::set<std::string>> types;
+  rosbag::View all(bag);
+  for (const rosbag::ConnectionInfo* connection : all.getConnections())
+    types[connection->topic].insert(connection->datatype);
+  if (types.empty())
+    return "\n  (none: the bag is empty)";
+  std::ostringstream out;
+  for (const auto& entry : types)
+  {
+    std::string joined;
+    for (const std::string& type : entry.second)
+      joined += (joined.empty() ? "" : ", ") + type;
+    out << "\n  " << entry.first << "  " << joined << "  ("
+        << rosbag::View(bag, rosbag::TopicQuery(entry.first)).size() << " messages)";
+  }
+  return out.str();
+}
+
+// Refuses a bag that lacks one of the mode's topics or has it with another type.
+void checkTopics(rosbag::Bag& bag, const std::string& path, const std::string& mode,
+                 const std::vector<BagInputTopic>& topics)
+{
+  rosbag::View all(bag);
+  std::map<std::string, std::vector<const rosbag::ConnectionInfo*>> connections;
+  for (const rosbag::ConnectionInfo* connection : all.getConnections())
+    connections[connection->topic].push_back(connection);
+  for (const BagInputTopic& wanted : topics)
+  {
+    const auto found = connections.find(wanted.topic);
+    if (found == connections.end())
+      throw BagToolError(path + " has no topic " + wanted.topic + " (input mode " + mode + "; name another with " +
+                         wanted.option + " or choose another --input-mode). Its topics are:" +
+                         describeTopics(bag));
+    for (const rosbag::ConnectionInfo* connection : found->second)
+    {
+      if (connection->datatype != wanted.datatype)
+        throw BagToolError("topic " + wanted.topic + " in " + path + " has type " + connection->datatype +
+                           ", but input mode " + mode + " needs " + wanted.datatype + ". The bag's topics are:" +
+                           describeTopics(bag));
+      if (connection->md5sum != wanted.md5sum && wanted.md5sum != "*")
+        throw BagToolError("topic " + wanted.topic + " in " + path + " has " + wanted.datatype + " with MD5 " +
+                           connection->md5sum + ", but this build's " + wanted.datatype + " has MD5 " +
+                           wanted.md5sum + " (a different message definition)");
+    }
+  }
+}
+
+// The output file under its partial name until commit(); removed if never committed.
+class PartialOutput
+{
+public:
+  PartialOutput(const std::string& final_path, std::ostream& log)
+    : final_path_(final_path), partial_path_(partialOutputPath(final_path)), log_(log)
+  {
+  }
+  ~PartialOutput()
+  {
+    if (committed_ || !opened_)
+      return;
+    bag_.close();
+    std::error_code error;
+    if (fs::remove(partial_path_, error))
+      log_ << "prefilter_bag: removed the incomplete output " << partial_path_ << "; " << final_path_
+           << " was not written\n";
+    else if (fs::exists(partial_path_, error))
+      log_ << "prefilter_bag: could not remove the incomplete output " << partial_path_ << "\n";
+  }
+
+  rosbag::Bag& open()
+  {
+    try
+    {
+      opened_ = true;
+      bag_.open(partial_path_, rosbag::bagmode::Write);
+    }
+    catch (const rosbag::BagException& e)
+    {
+      throw BagToolError("cannot write " + partial_path_ + ": " + e.what());
+    }
+    return bag_;
+  }
+
+  void commit()
+  {
+    bag_.close();
+    std::error_code error;
+    fs::rename(partial_path_, final_path_, error);
+    if (error)
+      throw BagToolError("cannot rename " + partial_path_ + " to " + final_path_ + ": " + error.message());
+    committed_ = true;
+  }
+
+private:
+  std::string final_path_;
+  std::string partial_path_;
+  std::ostream& log_;
+  rosbag::Bag bag_;
+  bool opened_ = false;
+  bool committed_ = false;
+};
+
+std::string formatMs(double seconds)
+{
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(1) << seconds * 1e3 << " ms";
+  return out.str();
+}
+
+// Runs the pipeline on each sweep an input mode completes and writes its outputs.
+class Processor : public SweepSink
+{
+public:
+  Processor(const BagToolOptions& options, rosbag::Bag& out, BagToolSummary& summary, std::ostream& log)
+    : options_(options), pipeline_(options.params), out_(out), summary_(summary), log_(log)
+  {
+    const std::string prefix = options.prefix == "/" ? "" : options.prefix;
+    labelled_topic_ = prefix + "/labelled";
+    cleaned_topic_ = prefix + "/cleaned";
+    objects_topic_ = prefix + "/objects";
+    markers_topic_ = prefix + "/markers";
+  }
+
+  std::vector<std::string> outputTopics() const
+  {
+    return { labelled_topic_, cleaned_topic_, objects_topic_, markers_topic_ };
+  }
+
+  core::Sweep& sweep() { return pipeline_.sweep(); }
+
+  // Called before each input message, so that a sweep's time includes its conversion.
+  void startMessage() { message_start_ = Clock::now(); }
+
+  void sweepReady(const std_msgs::Header& header, const ros::Time& bag_time) override
+  {
+    OutputMessages outputs;
+    const core::PipelineResult& result = pipeline_.process(header, OutputRequest(), outputs);
+    const double seconds = secondsSince(message_start_);
+    summary_.sweep_seconds.push_back(seconds);
+    ++summary_.sweeps_processed;
+    for (const core::ReflectiveObject& object : result.objects)
+      ++summary_.objects_by_type[core::objectTypeName(object.type)];
+    out_.write(labelled_topic_, bag_time, *outputs.labelled);
+    out_.write(cleaned_topic_, bag_time, *outputs.cleaned);
+    out_.write(objects_topic_, bag_time, *outputs.objects);
+    out_.write(markers_topic_, bag_time, *outputs.markers);
+    if (options_.verbose)
+    {
+      log_ << "sweep " << summary_.sweeps_processed << " (stamp " << header.stamp << ", bag time " << bag_time
+           << "): " << formatMs(seconds) << ", " << result.objects.size() << " object(s)";
+      for (const core::ReflectiveObject& object : result.objects)
+        log_ << std::fixed << std::setprecision(1) << "; " << core::objectTypeName(object.type) << " "
+             << object.width * 100.0f << " x " << object.height * 100.0f << " cm";
+      log_ << std::defaultfloat << "\n";
+    }
+    message_start_ = Clock::now();
+  }
+
+  void sweepDropped(const std::string& reason, const ros::Time& bag_time) override
+  {
+    ++summary_.sweeps_dropped;
+    const std::size_t seen = ++summary_.drop_reasons[reason];
+    if (seen <= kReportedDropsPerReason || options_.verbose)
+      log_ << "prefilter_bag: dropping input at bag time " << bag_time << ": " << reason
+           << (seen == kReportedDropsPerReason && !options_.verbose ? " (more of these are only counted)" : "")
+           << "\n";
+  }
+
+private:
+  const BagToolOptions& options_;
+  MessagePipeline pipeline_;
+  rosbag::Bag& out_;
+  BagToolSummary& summary_;
+  std::ostream& log_;
+  std::string labelled_topic_, cleaned_topic_, objects_topic_, markers_topic_;
+  Clock::time_point message_start_ = Clock::now();
+};
+
+// "12/200 input messages, 6 sweeps, 2.9 sweeps/s": rewritten in place on a terminal, a
+// line every few seconds otherwise (a log file).
+class Progress
+{
+public:
+  Progress(std::ostream& log, std::size_t total) : log_(log), total_(total), tty_(isatty(STDERR_FILENO) == 1) {}
+
+  void update(const BagToolSummary& summary, bool last = false)
+  {
+    const double elapsed = secondsSince(start_);
+    if (!last && elapsed - printed_at_ < (tty_ ? 0.5 : 5.0))
+      return;
+    printed_at_ = elapsed;
+    std::ostringstream line;
+    line << "prefilter_bag: " << summary.input_messages << "/" << total_ << " input messages, "
+         << summary.sweeps_processed << " sweeps, " << std::fixed << std::setprecision(1)
+         << (elapsed > 0.0 ? summary.sweeps_processed / elapsed : 0.0) << " sweeps/s";
+    if (tty_)
+      log_ << "\r" << line.str() << "\033[K" << (last ? "\n" : "") << std::flush;
+    else
+      log_ << line.str() << "\n";
+  }
+
+private:
+  std::ostream& log_;
+  std::size_t total_;
+  bool tty_;
+  Clock::time_point start_ = Clock::now();
+  double printed_at_ = 0.0;
+};
+}  // namespace
+
+std::string partialOutputPath(const std::string& output_path)
+{
+  return output_path + ".partial";
+}
+
+double quantile(std::vector<double> values, double q)
+{
+  if (values.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  const std::size_t rank = static_cast<std::size_t>(std::ceil(q * values.size()));
+  return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
+{
+  const Clock::time_point start = Clock::now();
+  BagToolSummary summary;
+
+  const BagInputMode* mode = findBagInputMode(options.input_mode);
+  if (mode == nullptr)
+  {
+    std::string allowed;
+    for (const BagInputMode& m : bagInputModes())
+      allowed += std::string(allowed.empty() ? "" : ", ") + "'" + m.name + "'";
+    throw BagToolError("input_mode '" + options.input_mode + "' is unknown: allowed values are " + allowed);
+  }
+  const std::unique_ptr<BagInput> input = mode->make(options.input);
+  const std::vector<BagInputTopic> input_topics = input->topics();
+  std::set<std::string> input_topic_names;
+  for (const BagInputTopic& topic : input_topics)
+    if (!input_topic_names.insert(topic.topic).second)
+      throw BagToolError("input mode " + options.input_mode + " reads " + topic.topic +
+                         " twice; its topics must differ");
+
+  std::error_code error;
+  if (!fs::exists(options.input_path, error))
+    throw BagToolError("input bag " + options.input_path + " does not exist");
+  if (fs::exists(options.output_path, error) && fs::equivalent(options.input_path, options.output_path, error))
+    throw BagToolError("the output bag must not be the input bag (" + options.input_path + ")");
+
+  rosbag::Bag in;
+  try
+  {
+    in.open(options.input_path, rosbag::bagmode::Read);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw BagToolError("cannot read " + options.input_path + " as a ROS bag: " + e.what());
+  }
+  checkTopics(in, options.input_path, options.input_mode, input_topics);
+
+  std::vector<std::string> topic_list(input_topic_names.begin(), input_topic_names.end());
+  const std::size_t total_inputs = rosbag::View(in, rosbag::TopicQuery(topic_list)).size();
+
+  PartialOutput output(options.output_path, log);
+  rosbag::Bag& out = output.open();
+  std::unique_ptr<Processor> processor;
+  try
+  {
+    processor.reset(new Processor(options, out, summary, log));
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw BagToolError(std::string("bad parameters: ") + e.what());
+  }
+  const std::vector<std::string> output_topics = processor->outputTopics();
+  const std::set<std::string> output_topic_names(output_topics.begin(), output_topics.end());
+  // A bag that already holds outputs (a processed bag processed again): the new ones replace them.
+  if (!options.only_outputs)
+  {
+    rosbag::View all(in);
+    std::set<std::string> replaced;
+    for (const rosbag::ConnectionInfo* connection : all.getConnections())
+      if (output_topic_names.count(connection->topic) > 0 && replaced.insert(connection->topic).second)
+        log << "prefilter_bag: " << options.input_path << " already has " << connection->topic
+            << "; its messages are not copied, the new outputs replace them\n";
+  }
+
+  std::unique_ptr<rosbag::View> view(options.only_outputs ? new rosbag::View(in, rosbag::TopicQuery(topic_list)) :
+                                                            new rosbag::View(in));
+  Progress progress(log, total_inputs);
+  try
+  {
+    for (const rosbag::MessageInstance& message : *view)
+    {
+      if (options.stop != nullptr && *options.stop)
+      {
+        summary.interrupted = true;
+        break;
+      }
+      const std::string& topic = message.getTopic();
+      if (!options.only_outputs && output_topic_names.count(topic) == 0)
+      {
+        out.write(topic, message.getTime(), message, message.getConnectionHeader());
+        ++summary.copied_messages;
+      }
+      if (input_topic_names.count(topic) > 0)
+      {
+        ++summary.input_messages;
+        processor->startMessage();
+        input->add(message, processor->sweep(), *processor);
+        progress.update(summary);
+      }
+    }
+    if (!summary.interrupted)
+      input->finish(*processor);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw BagToolError("error while reading " + options.input_path + " or writing " +
+                       partialOutputPath(options.output_path) + ": " + e.what());
+  }
+  progress.update(summary, true);
+  summary.wall_seconds = secondsSince(start);
+  if (summary.interrupted)
+  {
+    log << "prefilter_bag: interrupted after " << summary.sweeps_processed << " sweeps\n";
+    return summary;  // ~PartialOutput removes the file
+  }
+  output.commit();
+  summary.wall_seconds = secondsSince(start);
+  return summary;
+}
+
+void printSummary(const BagToolSummary& summary, std::ostream& out)
+{
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(1);
+  text << "sweeps processed: " << summary.sweeps_processed << "\n";
+  text << "sweeps dropped:   " << summary.sweeps_dropped << (summary.sweeps_dropped > 0 ? ", because:" : "") << "\n";
+  std::vector<std::pair<std::size_t, std::string>> reasons;
+  for (const auto& entry : summary.drop_reasons)
+    reasons.emplace_back(entry.second, entry.first);
+  std::sort(reasons.rbegin(), reasons.rend());
+  constexpr std::size_t kShownReasons = 10;
+  for (std::size_t i = 0; i < reasons.size() && i < kShownReasons; ++i)
+    text << "  " << std::setw(6) << reasons[i].first << " x " << reasons[i].second << "\n";
+  if (reasons.size() > kShownReasons)
+    text << "  and " << reasons.size() - kShownReasons << " other reasons\n";
+  text << "objects found:    ";
+  std::size_t objects = 0;
+  for (const core::ObjectType type : { core::ObjectType::mirror, core::ObjectType::glass, core::ObjectType::unknown })
+  {
+    const auto found = summary.objects_by_type.find(core::objectTypeName(type));
+    const std::size_t count = found == summary.objects_by_type.end() ? 0 : found->second;
+    objects += count;
+    text << (type == core::ObjectType::mirror ? "" : ", ") << count << " " << core::objectTypeName(type);
+  }
+  text << " (" << objects << " over all sweeps)\n";
+  if (!summary.sweep_seconds.empty())
+    text << "per-sweep time:   median " << formatMs(quantile(summary.sweep_seconds, 0.5)) << ", p95 "
+         << formatMs(quantile(summary.sweep_seconds, 0.95)) << " (conversion, pipeline, output messages)\n";
+  text << "throughput:       "
+       << (summary.wall_seconds > 0.0 ? summary.sweeps_processed / summary.wall_seconds : 0.0) << " sweeps/s\n";
+  text << "wall time:        " << std::setprecision(2) << summary.wall_seconds << " s\n";
+  out << text.str();
+}
+
+}  // namespace ros_io
+}  // namespace ohm_mirror_detector3d
