@@ -1,0 +1,237 @@
+"""prefilter_bag, the offline tool: runs the built binary on small simulated bags (no master).
+
+Skipped when the package is not built (the binary is looked up in the devel/install spaces
+on CMAKE_PREFIX_PATH, as after `source .ws/devel/setup.bash`).
+"""
+import os
+import signal
+import subprocess
+
+import numpy as np
+import pytest
+
+PACKAGE = 'ohm_mirror_detector3d'
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PARAMS = os.path.join(REPO, 'launch', 'rotating_hokuyo_params.yaml')
+OUTPUTS = ['/prefilter/labelled', '/prefilter/cleaned', '/prefilter/objects', '/prefilter/markers']
+GROUND_TRUTH = ['/ground_truth', '/ground_truth_objects']
+INPUTS = ['/echo_pair', '/echo1', '/echo2']
+
+
+def find_binary():
+    for prefix in os.environ.get('CMAKE_PREFIX_PATH', '').split(os.pathsep):
+        path = os.path.join(prefix, 'lib', PACKAGE, 'prefilter_bag')
+        if prefix and os.access(path, os.X_OK):
+            return path
+    return None
+
+
+@pytest.fixture(scope='module')
+def binary(ros_messages):
+    path = find_binary()
+    if path is None:
+        pytest.skip('prefilter_bag is not built: no lib/%s/prefilter_bag under CMAKE_PREFIX_PATH '
+                    '(build, then source .ws/devel/setup.bash)' % PACKAGE)
+    return path
+
+
+def run(binary, *args, check=True):
+    p = subprocess.run([binary] + [str(a) for a in args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       universal_newlines=True, timeout=120)
+    if check:
+        assert p.returncode == 0, p.stderr
+    return p
+
+
+@pytest.fixture(scope='module')
+def bags(binary, ros_messages, tmp_path_factory):
+    """Two noisy experiment1 sweeps (1080 x 200) and the tool's output on them in pair mode."""
+    from ohm_mirror_detector3d import scanner, simulate
+    d = tmp_path_factory.mktemp('prefilter_bag')
+    sweeps = [simulate.simulate_sweep('experiment1', scanner.RotatingHokuyo(scans=200), seed=k) for k in range(2)]
+    in_bag, out_bag = d / 'in.bag', d / 'out.bag'
+    stamps = ros_messages.write_sweeps_bag(str(in_bag), sweeps, start_time=1000.0, period=1.0)
+    p = run(binary, in_bag, out_bag, '--params', PARAMS)
+    return {'dir': d, 'in': in_bag, 'out': out_bag, 'stamps': stamps, 'stderr': p.stderr}
+
+
+def read_all(path, topics=None):
+    """[(topic, message, bag time)] in bag order."""
+    import rosbag
+    with rosbag.Bag(str(path)) as bag:
+        return list(bag.read_messages(topics=topics))
+
+
+def read_raw(path, topics=None):
+    """{topic: [(serialized bytes, bag time)]}."""
+    import rosbag
+    out = {}
+    with rosbag.Bag(str(path)) as bag:
+        for topic, raw, t in bag.read_messages(topics=topics, raw=True):
+            out.setdefault(topic, []).append((raw[1], t))
+    return out
+
+
+def topics_of(path):
+    import rosbag
+    with rosbag.Bag(str(path)) as bag:
+        return set(bag.get_type_and_topic_info().topics)
+
+
+def assert_no_output(out_bag):
+    assert not os.path.exists(str(out_bag))
+    assert not os.path.exists(str(out_bag) + '.partial')
+
+
+def test_help(binary):
+    p = run(binary, '--help')
+    for word in ('--input-mode', 'pair', 'two_topics', '--input-topic', '--echo1-topic', '--echo2-topic',
+                 '--params', '--only-outputs', '--prefix', 'copied'):
+        assert word in p.stdout
+
+
+def test_pair_mode_writes_the_outputs_at_the_input_stamps(bags):
+    out = read_all(bags['out'], OUTPUTS)
+    for topic in OUTPUTS:
+        msgs = [(m, t) for tp, m, t in out if tp == topic]
+        assert [t for _, t in msgs] == bags['stamps'], topic
+        if topic != '/prefilter/markers':
+            assert [m.header.stamp for m, _ in msgs] == bags['stamps'], topic
+            assert all(m.header.frame_id == 'laser' for m, _ in msgs)
+    objects = [m for tp, m, _ in out if tp == '/prefilter/objects']
+    assert [[o.type for o in m.objects] for m in objects] == [[1], [1]]  # one mirror per sweep
+    labelled = [m for tp, m, _ in out if tp == '/prefilter/labelled']
+    assert all(m.width * m.height == 2 * 1080 * 200 for m in labelled)
+    assert 'sweeps processed: 2' in bags['stderr'] and 'sweeps dropped:   0' in bags['stderr']
+    assert '2 mirror' in bags['stderr'] and 'median' in bags['stderr'] and 'p95' in bags['stderr']
+
+
+def test_other_topics_are_copied_unchanged(bags):
+    topics = GROUND_TRUTH + INPUTS
+    assert read_raw(bags['out'], topics) == read_raw(bags['in'], topics)
+    assert topics_of(bags['out']) == set(topics + OUTPUTS)
+
+
+def test_only_outputs(binary, bags):
+    out_bag = bags['dir'] / 'only.bag'
+    run(binary, bags['in'], out_bag, '--params', PARAMS, '--only-outputs', '--prefix', 'filtered/')
+    assert topics_of(out_bag) == {t.replace('/prefilter/', '/filtered/') for t in OUTPUTS}
+
+
+def test_two_topics_mode_gives_the_labels_of_pair_mode_bit_for_bit(binary, bags):
+    out_bag = bags['dir'] / 'two_topics.bag'
+    run(binary, bags['in'], out_bag, '--params', PARAMS, '--input-mode', 'two_topics', '--only-outputs')
+    pair = read_raw(bags['out'], OUTPUTS)
+    two = read_raw(out_bag, OUTPUTS)
+    for topic in OUTPUTS:
+        assert two[topic] == pair[topic], topic
+
+
+def test_evaluator_scores_the_output(bags):
+    from ohm_mirror_detector3d import evaluation
+    results, summary, _ = evaluation.evaluate_bags(str(bags['out']), str(bags['in']))
+    assert summary['sweeps'] == 2
+    mirror, = summary['objects']
+    assert mirror['truth_type'] == 1 and mirror['detection_rate'] == 1.0 and mirror['type_correct_rate'] == 1.0
+    assert summary['false_positive_objects_per_sweep'] == 0.0
+
+
+def test_a_bad_message_is_counted_not_fatal(binary, ros_messages, tmp_path):
+    from ohm_mirror_detector3d import scanner, simulate
+    import rosbag
+    sweep = simulate.simulate_sweep('mirror_and_glass', scanner.RotatingHokuyo(scans=30), seed=2)
+    in_bag, out_bag = tmp_path / 'in.bag', tmp_path / 'out.bag'
+    good = ros_messages.sweep_to_messages(sweep, 10.0)['echo_pair']
+    bad = ros_messages.sweep_to_messages(sweep, 11.0)['echo_pair']
+    bad.echo2.height, bad.echo2.width = 1, 1080  # one scan only: the echoes differ in size
+    bad.echo2.row_step = bad.echo2.point_step * 1080
+    bad.echo2.data = bad.echo2.data[:bad.echo2.row_step]
+    with rosbag.Bag(str(in_bag), 'w') as bag:
+        bag.write('/echo_pair', good, good.header.stamp)
+        bag.write('/echo_pair', bad, bad.header.stamp)
+    p = run(binary, in_bag, out_bag, '--params', PARAMS)
+    assert 'sweeps processed: 1' in p.stderr and 'sweeps dropped:   1' in p.stderr
+    assert 'echo1 has 32400 points but echo2 has 1080' in p.stderr
+    assert [t.to_sec() for _, _, t in read_all(out_bag, ['/prefilter/labelled'])] == [10.0]
+
+
+def test_missing_topic(binary, bags):
+    out_bag = bags['dir'] / 'missing.bag'
+    p = run(binary, bags['in'], out_bag, '--input-topic', '/scan_pairs', check=False)
+    assert p.returncode == 1
+    assert '/scan_pairs' in p.stderr
+    assert '/echo_pair  ohm_mirror_detector3d/EchoPair  (2 messages)' in p.stderr  # what is there
+    assert '/ground_truth  sensor_msgs/PointCloud2' in p.stderr
+    assert_no_output(out_bag)
+
+
+def test_wrong_type(binary, bags):
+    out_bag = bags['dir'] / 'wrong_type.bag'
+    p = run(binary, bags['in'], out_bag, '--input-topic', '/echo1', check=False)
+    assert p.returncode == 1
+    assert '/echo1' in p.stderr and 'sensor_msgs/PointCloud2' in p.stderr
+    assert 'ohm_mirror_detector3d/EchoPair' in p.stderr
+    assert_no_output(out_bag)
+
+
+def test_unreadable_and_missing_bags(binary, tmp_path):
+    garbage, out_bag = tmp_path / 'garbage.bag', tmp_path / 'out.bag'
+    garbage.write_bytes(np.random.RandomState(0).bytes(4096))
+    p = run(binary, garbage, out_bag, check=False)
+    assert p.returncode == 1 and 'cannot read' in p.stderr and 'garbage.bag' in p.stderr
+    assert_no_output(out_bag)
+    p = run(binary, tmp_path / 'nope.bag', out_bag, check=False)
+    assert p.returncode == 1 and 'nope.bag does not exist' in p.stderr
+    assert_no_output(out_bag)
+
+
+@pytest.mark.parametrize('yaml_text, expected', [
+    ('outlierFilter_searchRadius: -0.2\n', 'outlierFilter_searchRadius (r) = -0.2 is out of range'),
+    ('r: 0.2\noutlierFilter_searchRadius: 0.3\n', 'name the same value and disagree'),
+    ('n_inlier: 2.5\n', 'parameter n_inlier (in '),
+    ('d_thres: "0.05"\n', 'd_thres (in '),
+    ('input_mode: sideways\n', "input_mode 'sideways' is unknown"),
+    ('[1, 2]\n', 'must be a map'),
+])
+def test_bad_parameters(binary, bags, tmp_path, yaml_text, expected):
+    params, out_bag = tmp_path / 'params.yaml', tmp_path / 'out.bag'
+    params.write_text(yaml_text)
+    p = run(binary, bags['in'], out_bag, '--params', params, check=False)
+    assert p.returncode == 2
+    assert expected in p.stderr
+    assert_no_output(out_bag)
+
+
+def test_bad_command_lines(binary, bags, tmp_path):
+    out_bag = tmp_path / 'out.bag'
+    for args, expected in ((['--input-mode', 'nope'], "input_mode 'nope' is unknown"),
+                           (['--echo1-topic', '/a'], '--echo1-topic does not apply to input mode pair'),
+                           (['--frobnicate'], 'unknown option --frobnicate'),
+                           (['--params', tmp_path / 'absent.yaml'], 'cannot read parameter file')):
+        p = run(binary, bags['in'], out_bag, *args, check=False)
+        assert p.returncode == 2 and expected in p.stderr, p.stderr
+    p = run(binary, bags['in'], check=False)
+    assert p.returncode == 2 and 'expected IN.bag and OUT.bag' in p.stderr
+    p = run(binary, bags['in'], bags['in'], check=False)
+    assert p.returncode == 1 and 'must not be the input bag' in p.stderr
+    assert_no_output(out_bag)
+
+
+def test_interrupt_removes_the_partial_output(binary, ros_messages, tmp_path):
+    from ohm_mirror_detector3d import scanner, simulate
+    import rosbag
+    sweep = simulate.simulate_sweep('mirror_and_glass', scanner.RotatingHokuyo(scans=10), seed=2)
+    in_bag, out_bag = tmp_path / 'in.bag', tmp_path / 'out.bag'
+    with rosbag.Bag(str(in_bag), 'w') as bag:  # many small sweeps: still busy when the signal comes
+        for k in range(100):
+            pair = ros_messages.sweep_to_messages(sweep, 10.0 + k)['echo_pair']
+            bag.write('/echo_pair', pair, pair.header.stamp)
+    p = subprocess.Popen([binary, str(in_bag), str(out_bag), '--params', PARAMS, '--verbose'],
+                         stderr=subprocess.PIPE, universal_newlines=True)
+    line = p.stderr.readline()
+    assert line.startswith('sweep 1 '), line
+    p.send_signal(signal.SIGINT)
+    rest = p.stderr.read()
+    assert p.wait(timeout=60) == 130, rest
+    assert 'interrupted' in rest and 'removed the incomplete output' in rest
+    assert_no_output(out_bag)
