@@ -35,7 +35,14 @@ deps:
 
 build: deps
 	@mkdir -p $(WS)/src $(WS)/devel/lib/python3/dist-packages $(ROS_LOG_DIR)
-	@ln -sfn $(CURDIR) $(WS)/src/$(PKG)
+	@# The package in the workspace is a folder of links to the repository's entries, all but
+	@# the workspace itself: a link to the whole repository would contain .ws again, and
+	@# rosrun's `find -L` would walk that loop and find every executable many times.
+	@if [ -L $(WS)/src/$(PKG) ]; then rm $(WS)/src/$(PKG); fi
+	@mkdir -p $(WS)/src/$(PKG)
+	@find $(WS)/src/$(PKG) -maxdepth 1 -type l ! -exec test -e {} \; -delete
+	@for entry in $(CURDIR)/* $(CURDIR)/.ci; do \
+	  case "$${entry##*/}" in .ws|demo_output) ;; *) ln -sfn "$$entry" $(WS)/src/$(PKG)/ ;; esac; done
 	cd $(WS) && catkin_make all tests -j2 -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
 	  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
 	  -DCATKIN_ENABLE_TESTING=ON > $(WS)/build.log 2>&1 || { tail -n 60 $(WS)/build.log; exit 1; }
