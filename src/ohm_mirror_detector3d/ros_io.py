@@ -250,3 +250,102 @@ class SweepPublisher:
         for topic in (TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS, TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR):
             self.publishers[topic].publish(msgs[topic])
         return stamp
+
+
+# ---------------------------------------------------------------------------------------------
+# Rotating Hokuyo as single multi-echo scans plus tf (input mode multi_echo_scan)
+
+TOPIC_SCAN_ECHOES = 'scan_echoes'
+
+
+def scan_to_msg(scan, geometry, frame_id, ranges=None, intensities=None):
+    """sensor_msgs/MultiEchoLaserScan of a scan_sequence.Scan (ranges/intensities override its echoes)."""
+    from sensor_msgs.msg import LaserEcho, MultiEchoLaserScan
+    msg = MultiEchoLaserScan()
+    msg.header = make_header(rospy.Time.from_sec(scan.stamp), frame_id)
+    msg.angle_min, msg.angle_max = geometry.angle_min, geometry.angle_max
+    msg.angle_increment = geometry.angle_increment
+    msg.time_increment, msg.scan_time = geometry.time_increment, geometry.scan_time
+    msg.range_min, msg.range_max = geometry.range_min, geometry.range_max
+    msg.ranges = [LaserEcho(echoes=e) for e in (scan.ranges if ranges is None else ranges)]
+    msg.intensities = [LaserEcho(echoes=e) for e in (scan.intensities if intensities is None else intensities)]
+    return msg
+
+
+def transform_msg(stamp, translation, quaternion, parent, child):
+    """tf2_msgs/TFMessage with one transform parent <- child."""
+    from geometry_msgs.msg import TransformStamped
+    from tf2_msgs.msg import TFMessage
+    t = TransformStamped()
+    t.header = make_header(rospy.Time.from_sec(stamp), parent)
+    t.child_frame_id = child
+    t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = translation
+    r = t.transform.rotation
+    r.x, r.y, r.z, r.w = quaternion
+    return TFMessage(transforms=[t])
+
+
+def scan_stream_messages(stream, count, scan_frame='laser', corrupt_scans=()):
+    """Messages of `count` sweeps of a scan_sequence.ScanStream in publishing order, as (topic, stamp, msg):
+    the ground truth of each sweep first (stamped like the assembled sweep), then per scan the tf at the
+    start of the next scan (so the scan's last beam can be projected) and the scan. One more scan follows,
+    the first of the next half rotation, which completes the last sweep. `corrupt_scans`: indices g of scans
+    preceded by a malformed copy (intensities shorter than ranges), for tests of the error path.
+    count <= 0: without end. A generator: sweeps are simulated as they are needed."""
+    geometry = stream.geometry
+    first = stream.laser_pose(0)
+    yield '/tf', stream.scan_stamp(0), transform_msg(stream.scan_stamp(0), first[0], first[1], stream.sweep_frame,
+                                                     scan_frame)
+    j = 0
+    while count <= 0 or j <= count:
+        sweep = stream.sweep(j)
+        scans = stream.scans(j, sweep)
+        if count > 0 and j == count:
+            scans = scans[:1]
+        else:
+            truth = stream.ground_truth(sweep)
+            for topic, msg in sweep_to_messages(truth, rospy.Time.from_sec(stream.sweep_stamp(j)),
+                                                stream.sweep_frame).items():
+                if topic in (TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS):
+                    yield topic, stream.sweep_stamp(j), msg
+        for scan in scans:
+            translation, quaternion = stream.laser_pose(scan.index + 1)
+            next_stamp = stream.scan_stamp(scan.index + 1)
+            yield '/tf', next_stamp, transform_msg(next_stamp, translation, quaternion, stream.sweep_frame, scan_frame)
+            if scan.index in corrupt_scans:
+                yield TOPIC_SCAN_ECHOES, scan.stamp, scan_to_msg(scan, geometry, scan_frame,
+                                                                 intensities=scan.intensities[:-1])
+            yield TOPIC_SCAN_ECHOES, scan.stamp, scan_to_msg(scan, geometry, scan_frame)
+        j += 1
+
+
+def write_scan_stream_bag(path, stream, count, scan_frame='laser', topic_prefix='/'):
+    """Writes /scan_echoes, /tf, /ground_truth and /ground_truth_objects of `count` sweeps (plus the scan that
+    completes the last one) to a bag, each at its stamp. Returns the ground-truth stamps."""
+    import rosbag
+    stamps = []
+    with rosbag.Bag(path, 'w') as bag:
+        for topic, stamp, msg in scan_stream_messages(stream, count, scan_frame):
+            name = topic if topic.startswith('/') else topic_prefix + topic
+            bag.write(name, msg, rospy.Time.from_sec(stamp))
+            if topic == TOPIC_GROUND_TRUTH:
+                stamps.append(msg.header.stamp)
+    return stamps
+
+
+class ScanStreamPublisher:
+    """Publishes a scan stream live: scan_echoes, ground_truth, ground_truth_objects (node namespace) and /tf."""
+
+    def __init__(self, queue_size=1000):
+        from sensor_msgs.msg import MultiEchoLaserScan
+        from tf2_msgs.msg import TFMessage
+        self.publishers = {
+            TOPIC_SCAN_ECHOES: rospy.Publisher(TOPIC_SCAN_ECHOES, MultiEchoLaserScan, queue_size=queue_size),
+            '/tf': rospy.Publisher('/tf', TFMessage, queue_size=queue_size),
+            TOPIC_GROUND_TRUTH: rospy.Publisher(TOPIC_GROUND_TRUTH, PointCloud2, queue_size=10),
+            TOPIC_GROUND_TRUTH_OBJECTS: rospy.Publisher(TOPIC_GROUND_TRUTH_OBJECTS, ReflectiveObjectArray,
+                                                        queue_size=10),
+        }
+
+    def publish(self, topic, msg):
+        self.publishers[topic].publish(msg)

@@ -13,6 +13,13 @@ the robot under the scanner), like the real unit. A 270 deg fan turning half
 a turn cannot do better: each azimuth is seen by one side of the fan only.
 Rows = scans (rotation angle 180 * k / scans), cols = beams (angle from the
 zenith -135 .. +135 deg; negative angles look towards azimuth + 180 deg).
+By default every scan is taken at one rotation angle (the unit stops for it).
+With `continuous` the unit keeps turning while the scanner sweeps its fan: beam
+i of scan k is taken `i * time_increment` after the scan starts and its plane
+has turned on by that fraction of the step between scans (what a real unit
+does; the input mode multi_echo_scan undoes it with tf). `rotation_offset`
+turns the whole sweep about z (the second half rotation of a unit starts at
+180 deg: the same planes, with each fan flipped).
 
 BeamList: any given beam directions (tests and hand-made geometry).
 
@@ -33,8 +40,21 @@ class RotatingHokuyo:
     min_range: float = 0.1
     max_range: float = 30.0
     range_noise: float = 0.01   # m, sigma of the Gaussian range noise
+    scan_time: float = 0.025    # s per scan (40 Hz) and per turn of the scanner's mirror
+    rotation_offset: float = 0.0  # rad, rotation angle of the first scan
+    continuous: bool = False    # the unit turns while a scan is taken (see the module doc)
 
     name = 'hokuyo'
+
+    @property
+    def time_increment(self):
+        """Seconds between two beams of a scan: the mirror turns 360 deg per scan_time (1440 steps of 0.25 deg)."""
+        return self.scan_time * (self.fan_deg / self.beams) / 360.0
+
+    @property
+    def rotation_step(self):
+        """Rotation of the unit between two scans (rad)."""
+        return np.pi / self.scans
 
     @property
     def rows(self):
@@ -45,8 +65,14 @@ class RotatingHokuyo:
         return self.beams
 
     def scan_angles(self):
-        """Rotation angle (rad) of the scan plane about z for each row."""
-        return np.arange(self.scans) * (np.pi / self.scans)
+        """Rotation angle (rad) of the scan plane about z at the start of each row."""
+        return self.rotation_offset + np.arange(self.scans) * self.rotation_step
+
+    def beam_rotation(self):
+        """How far the plane has turned (rad) when each beam of a scan is taken (0 unless continuous)."""
+        if not self.continuous:
+            return np.zeros(self.beams)
+        return np.arange(self.beams) * self.time_increment / self.scan_time * self.rotation_step
 
     def beam_angles(self):
         """Angle (rad) of each beam from the zenith within the scan plane (0.25 deg steps, centred)."""
@@ -55,7 +81,7 @@ class RotatingHokuyo:
 
     def directions(self):
         """Unit beam directions in the laser frame, (rows * cols, 3) row-major."""
-        alpha = self.scan_angles()[:, None]
+        alpha = self.scan_angles()[:, None] + self.beam_rotation()[None, :]
         beta = self.beam_angles()[None, :]
         s = np.sin(beta)
         d = np.stack([s * np.cos(alpha), s * np.sin(alpha), np.cos(beta) * np.ones_like(alpha)], axis=-1)

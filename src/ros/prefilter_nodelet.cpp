@@ -18,7 +18,12 @@ constexpr double kErrorThrottleSeconds = 5.0;
 // A sweep is large and a late one is worth less than the next: keep few.
 constexpr std::uint32_t kInputQueueSize = 2;
 
-const char* const kInputModes[] = { "pair", "two_topics" };
+// Scans are small and come at 40 Hz; keep 10 s of them while a sweep is processed.
+constexpr std::uint32_t kScanQueueSize = 400;
+// How often the scans that wait for their transforms are retried.
+constexpr double kScanRetrySeconds = 0.02;
+
+const char* const kInputModes[] = { "pair", "two_topics", "multi_echo_scan" };
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -53,7 +58,11 @@ void PreFilterNodelet::onInit()
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
   pnh.param<std::string>("input_mode", input_mode_, kInputModes[0]);
   if (std::find(std::begin(kInputModes), std::end(kInputModes), input_mode_) == std::end(kInputModes))
-    errors.push_back("input_mode '" + input_mode_ + "' is unknown: allowed values are 'pair', 'two_topics'");
+    errors.push_back("input_mode '" + input_mode_ +
+                     "' is unknown: allowed values are 'pair', 'two_topics', 'multi_echo_scan'");
+  ros_io::MultiEchoScanOptions scan_options;
+  if (input_mode_ == "multi_echo_scan")
+    scan_options = ros_io::readMultiEchoScanOptions(pnh, errors);
   if (!errors.empty())
   {
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);
@@ -63,6 +72,8 @@ void PreFilterNodelet::onInit()
   pipeline_.setParams(params);
   ros_io::writeParams(pnh, params);
   input_topic_ = topicName(pnh, "input", { "sub_input_scan" });
+  if (input_mode_ == "multi_echo_scan")
+    scan_input_ = std::make_unique<ros_io::MultiEchoScanInput>(scan_options, getNodeHandle(), getName());
 
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
@@ -110,6 +121,15 @@ void PreFilterNodelet::subscribe()
     pair_sub_ = pnh.subscribe<EchoPair>(input_topic_, kInputQueueSize,
                                         [this](const EchoPair::ConstPtr& pair) { onEchoPair(pair); });
   }
+  else if (input_mode_ == "multi_echo_scan")
+  {
+    scan_input_->reset();
+    scan_sub_ = pnh.subscribe<sensor_msgs::MultiEchoLaserScan>(
+        input_topic_, kScanQueueSize,
+        [this](const sensor_msgs::MultiEchoLaserScan::ConstPtr& scan) { onMultiEchoScan(scan); });
+    scan_drain_timer_ = pnh.createWallTimer(ros::WallDuration(kScanRetrySeconds),
+                                            [this](const ros::WallTimerEvent&) { onMultiEchoScan(nullptr); });
+  }
   else
   {
     echo1_sub_.subscribe(pnh, "echo1", kInputQueueSize);
@@ -127,6 +147,8 @@ void PreFilterNodelet::subscribe()
 void PreFilterNodelet::unsubscribe()
 {
   pair_sub_.shutdown();
+  scan_sub_.shutdown();
+  scan_drain_timer_.stop();
   echo1_sub_.unsubscribe();
   echo2_sub_.unsubscribe();
   subscribed_ = false;
@@ -175,6 +197,21 @@ void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& ec
     return;
   }
   processAndPublish(echo1->header);
+}
+
+void PreFilterNodelet::onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::ConstPtr& scan)
+{
+  if (scan)
+  {
+    const std::string problem = scan_input_->addScan(scan);
+    if (!problem.empty())
+      NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping scan on " << input_topic_ << ": " << problem);
+  }
+  scan_input_->drain([this](core::Sweep& sweep, const std_msgs::Header& header) {
+    std::lock_guard<std::mutex> lock(pipeline_mutex_);
+    std::swap(pipeline_.sweep(), sweep);
+    processAndPublish(header);
+  });
 }
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)

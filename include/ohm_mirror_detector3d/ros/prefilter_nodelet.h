@@ -6,6 +6,7 @@
 #include <message_filters/time_synchronizer.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <sensor_msgs/MultiEchoLaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <boost/thread/recursive_mutex.hpp>
@@ -16,6 +17,7 @@
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
+#include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -34,6 +36,9 @@ private:
 
   void onEchoPair(const EchoPair::ConstPtr& pair);
   void onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& echo1, const sensor_msgs::PointCloud2::ConstPtr& echo2);
+  // multi_echo_scan: queues a scan (null: only drains the queue, from the timer) and runs
+  // the pipeline on every sweep it completes.
+  void onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::ConstPtr& scan);
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
   void processAndPublish(const std_msgs::Header& header);
 
@@ -51,6 +56,11 @@ private:
   message_filters::Subscriber<sensor_msgs::PointCloud2> echo1_sub_;
   message_filters::Subscriber<sensor_msgs::PointCloud2> echo2_sub_;
   std::unique_ptr<EchoSync> echo_sync_;
+  // multi_echo_scan: the scan queue, tf and the sweep assembler; a timer retries the scans
+  // that wait for their transforms.
+  std::unique_ptr<ros_io::MultiEchoScanInput> scan_input_;
+  ros::Subscriber scan_sub_;
+  ros::WallTimer scan_drain_timer_;
 
   // Guards the pipeline and its sweep buffer: reconfigure runs on another thread than
   // the input callbacks.
