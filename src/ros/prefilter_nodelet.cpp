@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/ros/conversions.h"
+#include "ohm_mirror_detector3d/ros/dual_return.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
@@ -18,7 +19,7 @@ constexpr double kErrorThrottleSeconds = 5.0;
 // A sweep is large and a late one is worth less than the next: keep few.
 constexpr std::uint32_t kInputQueueSize = 2;
 
-const char* const kInputModes[] = { "pair", "two_topics" };
+const char* const kInputModes[] = { "pair", "two_topics", "dual_return" };
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -53,7 +54,16 @@ void PreFilterNodelet::onInit()
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
   pnh.param<std::string>("input_mode", input_mode_, kInputModes[0]);
   if (std::find(std::begin(kInputModes), std::end(kInputModes), input_mode_) == std::end(kInputModes))
-    errors.push_back("input_mode '" + input_mode_ + "' is unknown: allowed values are 'pair', 'two_topics'");
+  {
+    std::string allowed;
+    for (const char* mode : kInputModes)
+      allowed += std::string(allowed.empty() ? "'" : ", '") + mode + "'";
+    errors.push_back("input_mode '" + input_mode_ + "' is unknown: allowed values are " + allowed);
+  }
+  if (pnh.hasParam("azimuth_resolution_deg") && !pnh.getParam("azimuth_resolution_deg", azimuth_resolution_deg_))
+    errors.push_back("parameter " + pnh.resolveName("azimuth_resolution_deg") + " has the wrong type: expected a number");
+  else if (!core::validateAzimuthResolution(azimuth_resolution_deg_).empty())
+    errors.push_back(core::validateAzimuthResolution(azimuth_resolution_deg_));
   if (!errors.empty())
   {
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);
@@ -67,6 +77,10 @@ void PreFilterNodelet::onInit()
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
       [this](PreFilterConfig& config, std::uint32_t level) { onReconfigure(config, level); });
+
+  if (input_mode_ == "dual_return")
+    NODELET_INFO("dual_return: %zu azimuth bins of %.8g deg", core::azimuthBins(azimuth_resolution_deg_),
+                 360.0 / static_cast<double>(core::azimuthBins(azimuth_resolution_deg_)));
 
   advertiseOutputs();
   NODELET_INFO("pre-filter ready: input_mode %s, publishing %s, %s, %s, %s", input_mode_.c_str(),
@@ -110,6 +124,12 @@ void PreFilterNodelet::subscribe()
     pair_sub_ = pnh.subscribe<EchoPair>(input_topic_, kInputQueueSize,
                                         [this](const EchoPair::ConstPtr& pair) { onEchoPair(pair); });
   }
+  else if (input_mode_ == "dual_return")
+  {
+    dual_return_sub_ = pnh.subscribe<sensor_msgs::PointCloud2>(
+        input_topic_, kInputQueueSize,
+        [this](const sensor_msgs::PointCloud2::ConstPtr& cloud) { onDualReturnCloud(cloud); });
+  }
   else
   {
     echo1_sub_.subscribe(pnh, "echo1", kInputQueueSize);
@@ -129,6 +149,7 @@ void PreFilterNodelet::unsubscribe()
   pair_sub_.shutdown();
   echo1_sub_.unsubscribe();
   echo2_sub_.unsubscribe();
+  dual_return_sub_.shutdown();
   subscribed_ = false;
   NODELET_DEBUG("no output has subscribers: unsubscribed from the input");
 }
@@ -175,6 +196,23 @@ void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& ec
     return;
   }
   processAndPublish(echo1->header);
+}
+
+void PreFilterNodelet::onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud)
+{
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  core::DualReturnStats stats;
+  const std::string problem = ros_io::dualReturnCloudToSweep(*cloud, azimuth_resolution_deg_, dual_return_input_,
+                                                             pipeline_.sweep(), stats);
+  if (!problem.empty())
+  {
+    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
+    return;
+  }
+  const std::string unbinned = ros_io::describeUnbinned(stats, azimuth_resolution_deg_);
+  if (!unbinned.empty())
+    NODELET_WARN_STREAM_THROTTLE(kErrorThrottleSeconds, "sweep on " << input_topic_ << ": " << unbinned);
+  processAndPublish(cloud->header);
 }
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)

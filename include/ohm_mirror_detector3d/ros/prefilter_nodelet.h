@@ -15,6 +15,7 @@
 
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
+#include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
 
 namespace ohm_mirror_detector3d
@@ -34,11 +35,13 @@ private:
 
   void onEchoPair(const EchoPair::ConstPtr& pair);
   void onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& echo1, const sensor_msgs::PointCloud2::ConstPtr& echo2);
+  void onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud);
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
   void processAndPublish(const std_msgs::Header& header);
 
   std::string input_mode_;
   std::string input_topic_;  // pair mode
+  double azimuth_resolution_deg_ = core::kDefaultAzimuthResolutionDeg;  // dual_return mode
 
   ros::Publisher labelled_pub_;
   ros::Publisher cleaned_pub_;
@@ -51,11 +54,13 @@ private:
   message_filters::Subscriber<sensor_msgs::PointCloud2> echo1_sub_;
   message_filters::Subscriber<sensor_msgs::PointCloud2> echo2_sub_;
   std::unique_ptr<EchoSync> echo_sync_;
+  ros::Subscriber dual_return_sub_;
 
   // Guards the pipeline and its sweep buffer: reconfigure runs on another thread than
   // the input callbacks.
   std::mutex pipeline_mutex_;
   ros_io::MessagePipeline pipeline_;
+  core::DualReturnInput dual_return_input_;  // buffer of the dual_return adapter
 
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<PreFilterConfig>> reconfigure_server_;
