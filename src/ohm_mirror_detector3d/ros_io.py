@@ -236,11 +236,12 @@ class SweepPublisher:
     """Publishes sweeps on echo_pair, echo1, echo2, ground_truth, ground_truth_objects (node namespace).
 
     With `to_messages(sweep, stamp, frame_id)` (a {topic: message} dict, e.g. the dual-return cloud's)
-    it publishes those topics instead; `input_topics` are those the pre-filter reads, published last.
+    it publishes those topics instead; `input_topics` are those the pre-filter reads, published last,
+    of the types in `input_types` (default PointCloud2).
     """
 
     def __init__(self, queue_size=2, latch=False, to_messages=None,
-                 input_topics=(TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR)):
+                 input_topics=(TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR), input_types=None):
         self.to_messages = to_messages or sweep_to_messages
         self.input_topics = tuple(input_topics)
         self.queue_size, self.latch = queue_size, latch
@@ -250,7 +251,7 @@ class SweepPublisher:
                 self._advertise(topic, kind)
         else:
             for topic in self.input_topics:
-                self._advertise(topic, PointCloud2)
+                self._advertise(topic, (input_types or {}).get(topic, PointCloud2))
         self._advertise(TOPIC_GROUND_TRUTH, PointCloud2)
         self._advertise(TOPIC_GROUND_TRUTH_OBJECTS, ReflectiveObjectArray)
 

@@ -19,7 +19,7 @@ constexpr double kErrorThrottleSeconds = 5.0;
 // A sweep is large and a late one is worth less than the next: keep few.
 constexpr std::uint32_t kInputQueueSize = 2;
 
-const char* const kInputModes[] = { "pair", "two_topics", "dual_return" };
+const char* const kInputModes[] = { "pair", "two_topics", "dual_return", "hokuyo3d_legacy" };
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -130,6 +130,13 @@ void PreFilterNodelet::subscribe()
         input_topic_, kInputQueueSize,
         [this](const sensor_msgs::PointCloud2::ConstPtr& cloud) { onDualReturnCloud(cloud); });
   }
+  else if (input_mode_ == "hokuyo3d_legacy")
+  {
+    // ohm_hokuyo3d/CoordDistMulti, of a package we do not have: decoded from its definition.
+    legacy_sub_ = pnh.subscribe<topic_tools::ShapeShifter>(
+        input_topic_, kInputQueueSize,
+        [this](const topic_tools::ShapeShifter::ConstPtr& message) { onLegacyMessage(message); });
+  }
   else
   {
     echo1_sub_.subscribe(pnh, "echo1", kInputQueueSize);
@@ -150,6 +157,7 @@ void PreFilterNodelet::unsubscribe()
   echo1_sub_.unsubscribe();
   echo2_sub_.unsubscribe();
   dual_return_sub_.shutdown();
+  legacy_sub_.shutdown();
   subscribed_ = false;
   NODELET_DEBUG("no output has subscribers: unsubscribed from the input");
 }
@@ -213,6 +221,26 @@ void PreFilterNodelet::onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPt
   if (!unbinned.empty())
     NODELET_WARN_STREAM_THROTTLE(kErrorThrottleSeconds, "sweep on " << input_topic_ << ": " << unbinned);
   processAndPublish(cloud->header);
+}
+
+void PreFilterNodelet::onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr& message)
+{
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  legacy_bytes_.resize(message->size());
+  ros::serialization::OStream stream(legacy_bytes_.data(), static_cast<std::uint32_t>(legacy_bytes_.size()));
+  message->write(stream);
+  std_msgs::Header header;
+  const std::string problem = legacy_decoder_.decode(message->getDataType(), message->getMessageDefinition(),
+                                                     legacy_bytes_.data(), legacy_bytes_.size(), pipeline_.sweep(),
+                                                     header);
+  if (!problem.empty())
+  {
+    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << " ("
+                                                                              << message->getDataType()
+                                                                              << "): " << problem);
+    return;
+  }
+  processAndPublish(header);
 }
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)

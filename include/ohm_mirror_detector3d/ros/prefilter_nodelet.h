@@ -7,6 +7,7 @@
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <topic_tools/shape_shifter.h>
 
 #include <boost/thread/recursive_mutex.hpp>
 #include <memory>
@@ -16,6 +17,7 @@
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
 #include "ohm_mirror_detector3d/core/dual_return.h"
+#include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
 
 namespace ohm_mirror_detector3d
@@ -36,6 +38,7 @@ private:
   void onEchoPair(const EchoPair::ConstPtr& pair);
   void onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& echo1, const sensor_msgs::PointCloud2::ConstPtr& echo2);
   void onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud);
+  void onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr& message);
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
   void processAndPublish(const std_msgs::Header& header);
 
@@ -55,12 +58,15 @@ private:
   message_filters::Subscriber<sensor_msgs::PointCloud2> echo2_sub_;
   std::unique_ptr<EchoSync> echo_sync_;
   ros::Subscriber dual_return_sub_;
+  ros::Subscriber legacy_sub_;
 
   // Guards the pipeline and its sweep buffer: reconfigure runs on another thread than
   // the input callbacks.
   std::mutex pipeline_mutex_;
   ros_io::MessagePipeline pipeline_;
   core::DualReturnInput dual_return_input_;  // buffer of the dual_return adapter
+  ros_io::Hokuyo3dLegacyDecoder legacy_decoder_;  // hokuyo3d_legacy: cached definition
+  std::vector<std::uint8_t> legacy_bytes_;
 
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<PreFilterConfig>> reconfigure_server_;
