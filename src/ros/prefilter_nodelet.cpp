@@ -61,7 +61,8 @@ void PreFilterNodelet::onInit()
     errors.push_back("input_mode '" + input_mode_ + "' is unknown: allowed values are " + allowed);
   }
   if (pnh.hasParam("azimuth_resolution_deg") && !pnh.getParam("azimuth_resolution_deg", azimuth_resolution_deg_))
-    errors.push_back("parameter " + pnh.resolveName("azimuth_resolution_deg") + " has the wrong type: expected a number");
+    errors.push_back("parameter " + pnh.resolveName("azimuth_resolution_deg") +
+                     " has the wrong type: expected a number");
   else if (!core::validateAzimuthResolution(azimuth_resolution_deg_).empty())
     errors.push_back(core::validateAzimuthResolution(azimuth_resolution_deg_));
   if (!errors.empty())

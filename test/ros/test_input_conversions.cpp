@@ -48,11 +48,11 @@ sensor_msgs::PointCloud2 makeCloud(const std::vector<FieldSpec>& fields, const s
       switch (fields[f].datatype)
       {
         case PointField::INT8: { const std::int8_t x = static_cast<std::int8_t>(v); std::memcpy(out, &x, 1); break; }
-        case PointField::UINT8: { const std::uint8_t x = static_cast<std::uint8_t>(v); std::memcpy(out, &x, 1); break; }
+        case PointField::UINT8: { const auto x = static_cast<std::uint8_t>(v); std::memcpy(out, &x, 1); break; }
         case PointField::INT16: { const std::int16_t x = static_cast<std::int16_t>(v); std::memcpy(out, &x, 2); break; }
-        case PointField::UINT16: { const std::uint16_t x = static_cast<std::uint16_t>(v); std::memcpy(out, &x, 2); break; }
+        case PointField::UINT16: { const auto x = static_cast<std::uint16_t>(v); std::memcpy(out, &x, 2); break; }
         case PointField::INT32: { const std::int32_t x = static_cast<std::int32_t>(v); std::memcpy(out, &x, 4); break; }
-        case PointField::UINT32: { const std::uint32_t x = static_cast<std::uint32_t>(v); std::memcpy(out, &x, 4); break; }
+        case PointField::UINT32: { const auto x = static_cast<std::uint32_t>(v); std::memcpy(out, &x, 4); break; }
         case PointField::FLOAT32: { const float x = static_cast<float>(v); std::memcpy(out, &x, 4); break; }
         default: std::memcpy(out, &v, 8);
       }
