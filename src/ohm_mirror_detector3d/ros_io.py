@@ -201,15 +201,18 @@ def filter_output_from_msgs(labelled, cleaned, objects=None):
 # ---------------------------------------------------------------------------------------------
 # Bags
 
-def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None, topic_prefix='/'):
+def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None, topic_prefix='/',
+                     to_messages=None):
     """Writes sweeps to a bag (no master needed): topics prefix + echo_pair, echo1, echo2, ground_truth,
-    ground_truth_objects; sweep k is stamped start_time + k * period. Returns the stamps."""
+    ground_truth_objects (or those of `to_messages(sweep, stamp, frame_id)`, default sweep_to_messages);
+    sweep k is stamped start_time + k * period. Returns the stamps."""
     import rosbag
+    to_messages = to_messages or sweep_to_messages
     stamps = []
     with rosbag.Bag(path, 'w') as bag:
         for k, sweep in enumerate(sweeps):
             stamp = rospy.Time.from_sec(start_time + k * period)
-            for topic, msg in sweep_to_messages(sweep, stamp, frame_id).items():
+            for topic, msg in to_messages(sweep, stamp, frame_id).items():
                 bag.write(topic_prefix + topic, msg, stamp)
             stamps.append(stamp)
     return stamps
@@ -230,24 +233,36 @@ def read_bag_by_stamp(path, topics):
 # Live publishing
 
 class SweepPublisher:
-    """Publishes sweeps on echo_pair, echo1, echo2, ground_truth, ground_truth_objects (node namespace)."""
+    """Publishes sweeps on echo_pair, echo1, echo2, ground_truth, ground_truth_objects (node namespace).
 
-    def __init__(self, queue_size=2, latch=False):
-        self.publishers = {
-            TOPIC_ECHO_PAIR: rospy.Publisher(TOPIC_ECHO_PAIR, EchoPair, queue_size=queue_size, latch=latch),
-            TOPIC_ECHO1: rospy.Publisher(TOPIC_ECHO1, PointCloud2, queue_size=queue_size, latch=latch),
-            TOPIC_ECHO2: rospy.Publisher(TOPIC_ECHO2, PointCloud2, queue_size=queue_size, latch=latch),
-            TOPIC_GROUND_TRUTH: rospy.Publisher(TOPIC_GROUND_TRUTH, PointCloud2, queue_size=queue_size,
-                                                latch=latch),
-            TOPIC_GROUND_TRUTH_OBJECTS: rospy.Publisher(TOPIC_GROUND_TRUTH_OBJECTS, ReflectiveObjectArray,
-                                                        queue_size=queue_size, latch=latch),
-        }
+    With `to_messages(sweep, stamp, frame_id)` (a {topic: message} dict, e.g. the dual-return cloud's)
+    it publishes those topics instead; `input_topics` are those the pre-filter reads, published last,
+    of the types in `input_types` (default PointCloud2).
+    """
+
+    def __init__(self, queue_size=2, latch=False, to_messages=None,
+                 input_topics=(TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR), input_types=None):
+        self.to_messages = to_messages or sweep_to_messages
+        self.input_topics = tuple(input_topics)
+        self.queue_size, self.latch = queue_size, latch
+        self.publishers = {}
+        if to_messages is None:
+            for topic, kind in ((TOPIC_ECHO_PAIR, EchoPair), (TOPIC_ECHO1, PointCloud2), (TOPIC_ECHO2, PointCloud2)):
+                self._advertise(topic, kind)
+        else:
+            for topic in self.input_topics:
+                self._advertise(topic, (input_types or {}).get(topic, PointCloud2))
+        self._advertise(TOPIC_GROUND_TRUTH, PointCloud2)
+        self._advertise(TOPIC_GROUND_TRUTH_OBJECTS, ReflectiveObjectArray)
+
+    def _advertise(self, topic, kind):
+        self.publishers[topic] = rospy.Publisher(topic, kind, queue_size=self.queue_size, latch=self.latch)
 
     def publish(self, sweep, stamp=None, frame_id=None):
         stamp = stamp if stamp is not None else rospy.Time.now()
-        msgs = sweep_to_messages(sweep, stamp, frame_id)
+        msgs = self.to_messages(sweep, stamp, frame_id)
         # Ground truth first, so an evaluator has it before the filter's outputs of this stamp.
-        for topic in (TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS, TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR):
+        for topic in (TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS) + self.input_topics:
             self.publishers[topic].publish(msgs[topic])
         return stamp
 

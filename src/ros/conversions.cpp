@@ -1,5 +1,7 @@
 #include "ohm_mirror_detector3d/ros/conversions.h"
 
+#include "ohm_mirror_detector3d/ros/point_fields.h"
+
 #include <sensor_msgs/PointField.h>
 
 #include <Eigen/Geometry>
@@ -14,68 +16,6 @@ namespace ros_io
 namespace
 {
 using sensor_msgs::PointField;
-
-const PointField* findField(const sensor_msgs::PointCloud2& cloud, const std::string& name)
-{
-  for (const PointField& field : cloud.fields)
-    if (field.name == name)
-      return &field;
-  return nullptr;
-}
-
-std::size_t fieldSize(std::uint8_t datatype)
-{
-  switch (datatype)
-  {
-    case PointField::INT8:
-    case PointField::UINT8: return 1;
-    case PointField::INT16:
-    case PointField::UINT16: return 2;
-    case PointField::INT32:
-    case PointField::UINT32:
-    case PointField::FLOAT32: return 4;
-    case PointField::FLOAT64: return 8;
-    default: return 0;
-  }
-}
-
-template <typename T>
-float readAs(const std::uint8_t* data)
-{
-  T value;
-  std::memcpy(&value, data, sizeof(T));
-  return static_cast<float>(value);
-}
-
-float readNumber(const std::uint8_t* data, std::uint8_t datatype)
-{
-  switch (datatype)
-  {
-    case PointField::INT8: return readAs<std::int8_t>(data);
-    case PointField::UINT8: return readAs<std::uint8_t>(data);
-    case PointField::INT16: return readAs<std::int16_t>(data);
-    case PointField::UINT16: return readAs<std::uint16_t>(data);
-    case PointField::INT32: return readAs<std::int32_t>(data);
-    case PointField::UINT32: return readAs<std::uint32_t>(data);
-    case PointField::FLOAT32: return readAs<float>(data);
-    default: return readAs<double>(data);
-  }
-}
-
-std::string checkField(const PointField* field, const std::string& name, std::uint32_t point_step, bool float32_only)
-{
-  if (field == nullptr)
-    return "has no '" + name + "' field";
-  if (float32_only && field->datatype != PointField::FLOAT32)
-    return "field '" + name + "' has datatype " + std::to_string(field->datatype) + ", expected FLOAT32 (7)";
-  const std::size_t size = fieldSize(field->datatype);
-  if (size == 0)
-    return "field '" + name + "' has unknown datatype " + std::to_string(field->datatype);
-  if (field->offset + size > point_step)
-    return "field '" + name + "' at offset " + std::to_string(field->offset) + " does not fit in point_step " +
-           std::to_string(point_step);
-  return "";
-}
 
 void appendField(sensor_msgs::PointCloud2& cloud, const std::string& name, std::uint32_t offset, std::uint8_t datatype)
 {
@@ -93,6 +33,8 @@ constexpr std::uint32_t kOffsetLabel = 16;
 constexpr std::uint32_t kOffsetEcho = 17;
 constexpr std::uint32_t kOffsetBeam = 20;
 constexpr std::uint32_t kOutputPointStep = 24;
+// `beam` of a labelled point that is in no grid cell.
+constexpr std::uint32_t kNoBeam = 0xFFFFFFFFu;
 
 void prepareOutputCloud(const std_msgs::Header& header, std::size_t points, sensor_msgs::PointCloud2& cloud)
 {
@@ -127,16 +69,10 @@ void writePoint(std::uint8_t* out, const Eigen::Vector3f& position, float intens
 
 std::string readEchoCloud(const sensor_msgs::PointCloud2& cloud, core::EchoCloud& echo, bool& has_intensity)
 {
-  if (cloud.is_bigendian)
-    return "is big-endian, which is not supported";
+  std::string layout = checkCloudLayout(cloud);
+  if (!layout.empty())
+    return layout;
   const std::size_t points = static_cast<std::size_t>(cloud.width) * cloud.height;
-  if (points > 0 && cloud.row_step < static_cast<std::uint64_t>(cloud.width) * cloud.point_step)
-    return "row_step " + std::to_string(cloud.row_step) + " is smaller than width * point_step = " +
-           std::to_string(static_cast<std::uint64_t>(cloud.width) * cloud.point_step);
-  const std::uint64_t expected_bytes = static_cast<std::uint64_t>(cloud.row_step) * cloud.height;
-  if (points > 0 && cloud.data.size() != expected_bytes)
-    return "data holds " + std::to_string(cloud.data.size()) + " bytes but height * row_step = " +
-           std::to_string(expected_bytes);
   const PointField* x = findField(cloud, "x");
   const PointField* y = findField(cloud, "y");
   const PointField* z = findField(cloud, "z");
@@ -212,9 +148,18 @@ void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, c
     std::uint8_t* out = cloud.data.data();
     for (const core::PointRef& cell : sweep.input_cells)
     {
-      const core::EchoCloud& echo = sweep.echoes[cell.echo];
-      writePoint(out, echo.points[cell.beam], echo.intensities[cell.beam], labels.echoes[cell.echo][cell.beam],
-                 static_cast<std::uint8_t>(cell.echo + 1), cell.beam);
+      if (cell.echo == core::PointRef::kNoCell)
+      {
+        // A point in no grid cell (no return, out of range, lost its cell): nanPoint, echo 0.
+        writePoint(out, sweep.unbinned.points[cell.beam], sweep.unbinned.intensities[cell.beam],
+                   core::Label::nanPoint, 0, kNoBeam);
+      }
+      else
+      {
+        const core::EchoCloud& echo = sweep.echoes[cell.echo];
+        writePoint(out, echo.points[cell.beam], echo.intensities[cell.beam], labels.echoes[cell.echo][cell.beam],
+                   static_cast<std::uint8_t>(cell.echo + 1), cell.beam);
+      }
       out += kOutputPointStep;
     }
     return;

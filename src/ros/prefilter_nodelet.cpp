@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/ros/conversions.h"
+#include "ohm_mirror_detector3d/ros/dual_return.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
@@ -23,7 +24,8 @@ constexpr std::uint32_t kScanQueueSize = 400;
 // How often the scans that wait for their transforms are retried.
 constexpr double kScanRetrySeconds = 0.02;
 
-const char* const kInputModes[] = { "pair", "two_topics", "multi_echo_scan" };
+const char* const kInputModes[] = { "pair", "two_topics", "dual_return", "hokuyo3d_legacy",
+                                      "multi_echo_scan" };
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -58,11 +60,20 @@ void PreFilterNodelet::onInit()
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
   pnh.param<std::string>("input_mode", input_mode_, kInputModes[0]);
   if (std::find(std::begin(kInputModes), std::end(kInputModes), input_mode_) == std::end(kInputModes))
-    errors.push_back("input_mode '" + input_mode_ +
-                     "' is unknown: allowed values are 'pair', 'two_topics', 'multi_echo_scan'");
+  {
+    std::string allowed;
+    for (const char* mode : kInputModes)
+      allowed += std::string(allowed.empty() ? "'" : ", '") + mode + "'";
+    errors.push_back("input_mode '" + input_mode_ + "' is unknown: allowed values are " + allowed);
+  }
   ros_io::MultiEchoScanOptions scan_options;
   if (input_mode_ == "multi_echo_scan")
     scan_options = ros_io::readMultiEchoScanOptions(pnh, errors);
+  if (pnh.hasParam("azimuth_resolution_deg") && !pnh.getParam("azimuth_resolution_deg", azimuth_resolution_deg_))
+    errors.push_back("parameter " + pnh.resolveName("azimuth_resolution_deg") +
+                     " has the wrong type: expected a number");
+  else if (!core::validateAzimuthResolution(azimuth_resolution_deg_).empty())
+    errors.push_back(core::validateAzimuthResolution(azimuth_resolution_deg_));
   if (!errors.empty())
   {
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);
@@ -78,6 +89,10 @@ void PreFilterNodelet::onInit()
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
       [this](PreFilterConfig& config, std::uint32_t level) { onReconfigure(config, level); });
+
+  if (input_mode_ == "dual_return")
+    NODELET_INFO("dual_return: %zu azimuth bins of %.8g deg", core::azimuthBins(azimuth_resolution_deg_),
+                 360.0 / static_cast<double>(core::azimuthBins(azimuth_resolution_deg_)));
 
   advertiseOutputs();
   NODELET_INFO("pre-filter ready: input_mode %s, publishing %s, %s, %s, %s", input_mode_.c_str(),
@@ -121,6 +136,18 @@ void PreFilterNodelet::subscribe()
     pair_sub_ = pnh.subscribe<EchoPair>(input_topic_, kInputQueueSize,
                                         [this](const EchoPair::ConstPtr& pair) { onEchoPair(pair); });
   }
+  else if (input_mode_ == "dual_return")
+  {
+    dual_return_sub_ = pnh.subscribe<sensor_msgs::PointCloud2>(
+        input_topic_, kInputQueueSize,
+        [this](const sensor_msgs::PointCloud2::ConstPtr& cloud) { onDualReturnCloud(cloud); });
+  }
+  else if (input_mode_ == "hokuyo3d_legacy")
+  {
+    // ohm_hokuyo3d/CoordDistMulti, of a package we do not have: decoded from its definition.
+    legacy_sub_ = pnh.subscribe<topic_tools::ShapeShifter>(
+        input_topic_, kInputQueueSize,
+        [this](const topic_tools::ShapeShifter::ConstPtr& message) { onLegacyMessage(message); });
   else if (input_mode_ == "multi_echo_scan")
   {
     scan_input_->reset();
@@ -151,6 +178,8 @@ void PreFilterNodelet::unsubscribe()
   scan_drain_timer_.stop();
   echo1_sub_.unsubscribe();
   echo2_sub_.unsubscribe();
+  dual_return_sub_.shutdown();
+  legacy_sub_.shutdown();
   subscribed_ = false;
   NODELET_DEBUG("no output has subscribers: unsubscribed from the input");
 }
@@ -212,6 +241,43 @@ void PreFilterNodelet::onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::Co
     std::swap(pipeline_.sweep(), sweep);
     processAndPublish(header);
   });
+}
+
+void PreFilterNodelet::onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud)
+{
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  core::DualReturnStats stats;
+  const std::string problem = ros_io::dualReturnCloudToSweep(*cloud, azimuth_resolution_deg_, dual_return_input_,
+                                                             pipeline_.sweep(), stats);
+  if (!problem.empty())
+  {
+    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
+    return;
+  }
+  const std::string unbinned = ros_io::describeUnbinned(stats, azimuth_resolution_deg_);
+  if (!unbinned.empty())
+    NODELET_WARN_STREAM_THROTTLE(kErrorThrottleSeconds, "sweep on " << input_topic_ << ": " << unbinned);
+  processAndPublish(cloud->header);
+}
+
+void PreFilterNodelet::onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr& message)
+{
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  legacy_bytes_.resize(message->size());
+  ros::serialization::OStream stream(legacy_bytes_.data(), static_cast<std::uint32_t>(legacy_bytes_.size()));
+  message->write(stream);
+  std_msgs::Header header;
+  const std::string problem = legacy_decoder_.decode(message->getDataType(), message->getMessageDefinition(),
+                                                     legacy_bytes_.data(), legacy_bytes_.size(), pipeline_.sweep(),
+                                                     header);
+  if (!problem.empty())
+  {
+    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << " ("
+                                                                              << message->getDataType()
+                                                                              << "): " << problem);
+    return;
+  }
+  processAndPublish(header);
 }
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)

@@ -56,6 +56,10 @@ class StartUpParameters(unittest.TestCase):
     def test_refuses_an_unknown_input_mode(self):
         self.assert_refused('unknown_mode', ['_input_mode:=carrier_pigeon'], "input_mode 'carrier_pigeon' is unknown")
 
+    def test_refuses_a_zero_azimuth_resolution_naming_it_and_the_allowed_range(self):
+        self.assert_refused('zero_azimuth', ['_input_mode:=dual_return', '_azimuth_resolution_deg:=0.0'],
+                            'azimuth_resolution_deg = 0 is out of range', '0.01 .. 10')
+
     def test_accepts_paper_names_and_publishes_them_under_the_original_names(self):
         node = start_node('paper_names', '_d_thres:=0.3', '_n_object:=250')
         try:

@@ -30,6 +30,10 @@ struct EchoCloud
 // One point of a sweep: echo (0 or 1) and beam index.
 struct PointRef
 {
+  // echo value of an input point that has no grid cell (see Sweep::unbinned); its `beam`
+  // is then its index in Sweep::unbinned.
+  static constexpr std::uint8_t kNoCell = 255;
+
   std::uint32_t beam;
   std::uint8_t echo;
 };
@@ -46,6 +50,12 @@ struct Sweep
   // cloud), the cell of every input point, in input order, so that outputs can keep the
   // input's order and count. Empty when the input is two index-aligned echo clouds.
   std::vector<PointRef> input_cells;
+
+  // Input points that belong to no grid cell (non-finite, ring or return index out of range,
+  // a second point for a cell and return), as they were in the input; input_cells refers
+  // to them with echo == PointRef::kNoCell. The pipeline does not see them; outputs that
+  // keep the input's order report them as nanPoint. Unused when input_cells is empty.
+  EchoCloud unbinned;
 
   std::size_t beamCount() const { return rows * cols; }
 

@@ -34,8 +34,9 @@ std::string echoCloudsToSweep(const sensor_msgs::PointCloud2& echo1, const senso
                               core::Sweep& sweep);
 
 // Every point of both echoes (echo 1 first, then echo 2, each in beam order; or, when the
-// sweep has input_cells, the input's points in the input's order), fields
-// x y z intensity label echo beam, positions as measured.
+// sweep has input_cells, the input's points in the input's order, those in no grid cell as
+// nanPoint with echo 0 and beam 0xFFFFFFFF), fields x y z intensity label echo beam,
+// positions as measured.
 void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, const core::SweepLabels& labels,
                      sensor_msgs::PointCloud2& cloud);
 

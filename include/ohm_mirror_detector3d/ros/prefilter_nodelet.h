@@ -8,6 +8,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/MultiEchoLaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <topic_tools/shape_shifter.h>
 
 #include <boost/thread/recursive_mutex.hpp>
 #include <memory>
@@ -16,6 +17,8 @@
 
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
+#include "ohm_mirror_detector3d/core/dual_return.h"
+#include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
 #include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 
@@ -39,11 +42,14 @@ private:
   // multi_echo_scan: queues a scan (null: only drains the queue, from the timer) and runs
   // the pipeline on every sweep it completes.
   void onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::ConstPtr& scan);
+  void onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud);
+  void onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr& message);
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
   void processAndPublish(const std_msgs::Header& header);
 
   std::string input_mode_;
   std::string input_topic_;  // pair mode
+  double azimuth_resolution_deg_ = core::kDefaultAzimuthResolutionDeg;  // dual_return mode
 
   ros::Publisher labelled_pub_;
   ros::Publisher cleaned_pub_;
@@ -61,11 +67,16 @@ private:
   std::unique_ptr<ros_io::MultiEchoScanInput> scan_input_;
   ros::Subscriber scan_sub_;
   ros::WallTimer scan_drain_timer_;
+  ros::Subscriber dual_return_sub_;
+  ros::Subscriber legacy_sub_;
 
   // Guards the pipeline and its sweep buffer: reconfigure runs on another thread than
   // the input callbacks.
   std::mutex pipeline_mutex_;
   ros_io::MessagePipeline pipeline_;
+  core::DualReturnInput dual_return_input_;  // buffer of the dual_return adapter
+  ros_io::Hokuyo3dLegacyDecoder legacy_decoder_;  // hokuyo3d_legacy: cached definition
+  std::vector<std::uint8_t> legacy_bytes_;
 
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<PreFilterConfig>> reconfigure_server_;

@@ -1,0 +1,80 @@
+// Input mode dual_return: one cloud holding both returns of every beam, each point tagged
+// with its ring and its return index. Binning puts every point into a rings x azimuth-bins
+// grid and pairs the two returns of a beam, so the pipeline sees an ordinary Sweep.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/sweep.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+// 360 / 2048: a 2048-column spinning lidar (Ouster OS at 2048 x 10, the simulator's
+// DualReturnLidar). A bin no wider than the sensor's firing step never receives two
+// firings of one ring; coarser sensors (Velodyne 0.2 deg) merely leave some bins empty.
+constexpr double kDefaultAzimuthResolutionDeg = 360.0 / 2048.0;
+constexpr double kMinAzimuthResolutionDeg = 0.01;  // 36000 bins
+constexpr double kMaxAzimuthResolutionDeg = 10.0;
+// Rings at or above this are out of range (a corrupt ring value must not size the grid).
+constexpr std::int64_t kMaxRings = 1024;
+
+// Empty when `degrees` is a usable azimuth_resolution_deg, otherwise why not.
+std::string validateAzimuthResolution(double degrees);
+
+// Columns of the grid: 360 / degrees rounded to a whole number (the bins then are
+// 360 / columns wide, which differs from `degrees` only when it does not divide 360).
+std::size_t azimuthBins(double degrees);
+
+// The points of a dual-return cloud in input order. Positions in the sensor frame (origin =
+// optical centre); `rings` and `returns` are the raw values of the ring and return fields.
+struct DualReturnInput
+{
+  EchoCloud points;  // points and intensities (ranges unused)
+  bool has_intensity = false;
+  std::vector<std::int64_t> rings;
+  std::vector<std::int64_t> returns;
+
+  std::size_t size() const { return points.points.size(); }
+};
+
+// What binning did with the points of one cloud; every input point is in exactly one count
+// besides `paired_beams`/`single_beams`.
+struct DualReturnStats
+{
+  int return_base = 1;              // 1 when the return indices are 1/2, 0 when they are 0/1
+  std::size_t points = 0;
+  std::size_t binned = 0;           // points in a grid cell
+  std::size_t paired_beams = 0;     // cells with both returns
+  std::size_t single_beams = 0;     // cells with one return
+  std::size_t no_return = 0;        // non-finite, or exactly at the origin (some drivers' "no return")
+  std::size_t ring_out_of_range = 0;
+  std::size_t return_out_of_range = 0;  // neither the first nor the second return (e.g. a third)
+  std::size_t duplicates = 0;       // lost a cell to a point of the same return nearer the bin centre
+
+  std::size_t unbinned() const { return no_return + ring_out_of_range + return_out_of_range + duplicates; }
+};
+
+// Fills `sweep` from a dual-return cloud:
+// - return base: 0-based (0/1) when some point has return index 0, otherwise 1-based (1/2);
+// - rows = largest in-range ring + 1 (rings 0 .. kMaxRings - 1), cols = azimuthBins();
+//   beam = ring * cols + bin, bin = azimuth (atan2(y, x), counter-clockwise from +x) divided
+//   by the bin width, rounded;
+// - echo 0 of a beam is its first return (index 1, or 0), echo 1 the second;
+// - a second return is paired with the first return of its ring whose azimuth is nearest,
+//   if that is within half a bin; a second return without such a partner becomes a
+//   single-return beam in its own bin (echo 0) when that bin has no first return;
+// - two points claiming the same cell and echo: the one nearer the bin centre (for a
+//   second return: nearer its partner's azimuth) keeps it, ties to the earlier point;
+// - points without a cell (no return, ring or return index out of range, the loser of a
+//   claim, a second return that found neither partner nor free bin) go to sweep.unbinned.
+// sweep.input_cells gets the cell (or unbinned index) of every input point, in input order.
+// The sweep's origin is zero and its ranges are computed.
+DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_resolution_deg, Sweep& sweep);
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

@@ -1,0 +1,35 @@
+// Input mode dual_return: one PointCloud2 with both returns of every beam.
+#pragma once
+
+#include <sensor_msgs/PointCloud2.h>
+
+#include <string>
+
+#include "ohm_mirror_detector3d/core/dual_return.h"
+#include "ohm_mirror_detector3d/core/sweep.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace ros_io
+{
+// Field names accepted for the return index and the ring, first match wins.
+extern const char* const kReturnFieldNames[3];  // return, return_type, echo
+extern const char* const kRingFieldNames[2];    // ring, channel
+
+// Reads x y z (float32), the optional numeric intensity, a return-index field and a ring
+// field (integer types) of every point (row-major) into `input`. Returns an empty string on
+// success, otherwise what is wrong, naming the field.
+std::string readDualReturnCloud(const sensor_msgs::PointCloud2& cloud, core::DualReturnInput& input);
+
+// Fills `sweep` from a dual-return cloud (see core::binDualReturns). `input` is a buffer
+// reused from call to call. Returns an empty string on success, otherwise the problem.
+std::string dualReturnCloudToSweep(const sensor_msgs::PointCloud2& cloud, double azimuth_resolution_deg,
+                                   core::DualReturnInput& input, core::Sweep& sweep, core::DualReturnStats& stats);
+
+// A sentence about the points that binning could not place (rings or return indices out of
+// range, points sharing a cell), or an empty string when there are none worth a warning
+// (non-finite points are normal, REP-117).
+std::string describeUnbinned(const core::DualReturnStats& stats, double azimuth_resolution_deg);
+
+}  // namespace ros_io
+}  // namespace ohm_mirror_detector3d

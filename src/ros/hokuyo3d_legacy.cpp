@@ -1,0 +1,155 @@
+#include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+
+namespace ohm_mirror_detector3d
+{
+namespace ros_io
+{
+namespace
+{
+const char* const kEchoArray = "coorddist";
+
+// The field at `path`, which must be an array of `element` (a builtin type).
+std::string findArray(const std::map<std::string, FieldLocation>& locations, const std::string& path,
+                      const std::string& element, bool required, const FieldLocation*& found)
+{
+  found = nullptr;
+  const auto it = locations.find(path);
+  if (it == locations.end())
+    return required ? "has no field '" + path + "'" : "";
+  const FieldSpec& field = *it->second.field;
+  if (!field.is_array || field.type != element)
+    return "field '" + path + "' is " + field.typeName() + ", expected " + element + "[]";
+  found = &it->second;
+  return "";
+}
+
+template <typename T>
+T readAt(const std::uint8_t* data, std::size_t offset)
+{
+  T value;
+  std::memcpy(&value, data + offset, sizeof(T));
+  return value;
+}
+}  // namespace
+
+std::string Hokuyo3dLegacyDecoder::parseDefinition(const std::string& datatype, const std::string& definition)
+{
+  std::string problem = definition_.parse(datatype, definition);
+  if (!problem.empty())
+    return problem;
+  for (const FieldSpec& field : definition_.root().fields)
+  {
+    if (field.name != kEchoArray)
+      continue;
+    if (!field.is_array || field.nested == nullptr)
+      return "field '" + field.name + "' of " + datatype + " is " + field.typeName() +
+             ", expected an array of CoordDist messages";
+    return "";
+  }
+  return "message definition of " + datatype + " has no field '" + kEchoArray + "' (expected CoordDist[] " +
+         kEchoArray + ")";
+}
+
+std::string Hokuyo3dLegacyDecoder::decode(const std::string& datatype, const std::string& definition,
+                                          const std::uint8_t* data, std::size_t size, core::Sweep& sweep,
+                                          std_msgs::Header& header)
+{
+  if (datatype != datatype_ || definition != definition_text_)
+  {
+    datatype_ = datatype;
+    definition_text_ = definition;
+    definition_problem_ = parseDefinition(datatype, definition);
+  }
+  if (!definition_problem_.empty())
+    return definition_problem_;
+  std::string problem = walkMessage(definition_, data, size, locations_);
+  if (!problem.empty())
+    return problem;
+
+  const std::size_t echoes = std::min<std::size_t>(locations_.at(kEchoArray).count, 2);
+  if (echoes == 0)
+    return std::string("'") + kEchoArray + "' is empty: the message holds no echo";
+
+  // Header of the sweep: that of the first echo's coordinates.
+  const std::string header_path = std::string(kEchoArray) + "[0].coord.header";
+  const auto stamp = locations_.find(header_path + ".stamp");
+  const auto seq = locations_.find(header_path + ".seq");
+  const auto frame = locations_.find(header_path + ".frame_id");
+  if (stamp == locations_.end() || frame == locations_.end() || stamp->second.field->type != "time" ||
+      frame->second.field->type != "string")
+    return "has no std_msgs/Header '" + header_path + "' (with 'stamp' and 'frame_id')";
+  header.stamp.sec = readAt<std::uint32_t>(data, stamp->second.offset);
+  header.stamp.nsec = readAt<std::uint32_t>(data, stamp->second.offset + 4);
+  header.seq = seq != locations_.end() && seq->second.field->type == "uint32" ?
+                   readAt<std::uint32_t>(data, seq->second.offset) :
+                   0;
+  header.frame_id.assign(reinterpret_cast<const char*>(data) + frame->second.offset, frame->second.count);
+
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::size_t beams = 0;
+  bool has_intensity = true;
+  for (std::size_t k = 0; k < echoes; ++k)
+  {
+    const std::string base = std::string(kEchoArray) + "[" + std::to_string(k) + "].";
+    const FieldLocation* coords = nullptr;
+    const FieldLocation* mask = nullptr;
+    const FieldLocation* intensity = nullptr;
+    std::string mask_path = base + "coord.mask";
+    problem = findArray(locations_, base + "coord.coords", "float32", true, coords);
+    if (problem.empty())
+      problem = findArray(locations_, mask_path, "bool", false, mask);
+    if (problem.empty() && mask == nullptr)
+      problem = findArray(locations_, mask_path = base + "dist.mask", "bool", false, mask);
+    if (problem.empty())
+      problem = findArray(locations_, base + "coord.intensity", "float32", false, intensity);
+    if (!problem.empty())
+      return problem;
+    if (coords->count % 3 != 0)
+      return "field '" + base + "coord.coords' holds " + std::to_string(coords->count) +
+             " values, not 3 per point";
+    const std::size_t n = coords->count / 3;
+    if (k == 0)
+    {
+      beams = n;
+      sweep.resize(1, n);
+    }
+    else if (n != beams)
+      return "echo 2 has " + std::to_string(n) + " points but echo 1 has " + std::to_string(beams) +
+             "; the echoes must be index-aligned";
+    if (mask != nullptr && mask->count != n)
+      return "field '" + mask_path + "' holds " + std::to_string(mask->count) + " values for " +
+             std::to_string(n) + " points";
+    if (intensity != nullptr && intensity->count != n)
+      return "field '" + base + "coord.intensity' holds " + std::to_string(intensity->count) + " values for " +
+             std::to_string(n) + " points";
+    has_intensity = has_intensity && intensity != nullptr;
+    core::EchoCloud& echo = sweep.echoes[k];
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const bool valid = mask == nullptr || data[mask->offset + i] != 0;
+      if (valid)
+        std::memcpy(echo.points[i].data(), data + coords->offset + 12 * i, 12);
+      else
+        echo.points[i].setConstant(nan);
+      echo.intensities[i] = intensity != nullptr ? readAt<float>(data, intensity->offset + 4 * i) : nan;
+    }
+  }
+  if (echoes == 1)
+  {
+    // One echo only: every beam is a single-return beam.
+    std::fill(sweep.echoes[1].points.begin(), sweep.echoes[1].points.end(), Eigen::Vector3f::Constant(nan));
+    std::fill(sweep.echoes[1].intensities.begin(), sweep.echoes[1].intensities.end(), nan);
+  }
+  sweep.has_intensity = has_intensity;
+  sweep.input_cells.clear();
+  sweep.origin.setZero();
+  sweep.computeRanges();
+  return "";
+}
+
+}  // namespace ros_io
+}  // namespace ohm_mirror_detector3d

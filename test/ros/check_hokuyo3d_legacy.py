@@ -1,0 +1,80 @@
+#!/usr/bin/python3
+"""rostest checker of input mode hokuyo3d_legacy: simulated experiment 1 (rotating Hokuyo, 300 scans,
+seed 1) published as ohm_hokuyo3d/CoordDistMulti, whose class is generated at run time from its
+definition (the package does not exist here), through the running pre-filter, which reads it with
+a ShapeShifter. Checks the header, the labelled layout, and the evaluator's verdict."""
+import json
+import os
+import sys
+import unittest
+
+import numpy as np
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from output_client import OutputClient  # noqa: E402
+
+from ohm_mirror_detector3d import ros_io, scene as scenes  # noqa: E402
+from ohm_mirror_detector3d.hokuyo3d_legacy import LEGACY_TYPE, legacy_classes, legacy_message  # noqa: E402
+from ohm_mirror_detector3d.metrics import evaluate_sweep, strip_raw  # noqa: E402
+from ohm_mirror_detector3d.scanner import RotatingHokuyo  # noqa: E402
+from ohm_mirror_detector3d.simulate import simulate_sweep  # noqa: E402
+
+MIRROR = 1
+
+
+class Hokuyo3dLegacy(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('check_hokuyo3d_legacy')
+        classes = legacy_classes()
+        cls.client = OutputClient('coord_dist', classes[LEGACY_TYPE])
+        cls.sweep = simulate_sweep(scenes.get('experiment1'), RotatingHokuyo(scans=300, range_noise=0.01), seed=1)
+        header = ros_io.make_header(rospy.Time(3000, 500), 'laser')
+        header.seq = 42
+        cls.outputs = cls.client.run(legacy_message(cls.sweep, header, classes), stamp=header.stamp)
+        cls.labelled = ros_io.cloud_to_array(cls.outputs['labelled'])
+        output = ros_io.filter_output_from_msgs(cls.outputs['labelled'], cls.outputs['cleaned'],
+                                                cls.outputs['objects'])
+        cls.result = evaluate_sweep(cls.sweep.ground_truth, output['labelled'], output['cleaned'],
+                                    output['objects'], ros_io.ground_truth_objects(cls.sweep))
+        summary = strip_raw(cls.result)
+        print('evaluator, experiment1 through hokuyo3d_legacy:', json.dumps(
+            {k: summary[k] for k in ('objects', 'false_positive_objects', 'phantom_wrong_place_fraction',
+                                     'real_lost_fraction', 'backprojection_error')}, default=float))
+        report = rospy.get_param('~report', '')
+        if report:
+            os.makedirs(report, exist_ok=True)
+            with open(os.path.join(report, 'hokuyo3d_legacy.json'), 'w') as f:
+                json.dump(summary, f, indent=1, default=float)
+
+    def test_outputs_carry_the_header_of_the_first_echo(self):
+        for msg in self.outputs.values():
+            self.assertEqual(msg.header.frame_id, 'laser')
+            self.assertEqual(msg.header.stamp, rospy.Time(3000, 500))
+
+    def test_labelled_holds_both_echoes_in_beam_order_with_masked_beams_empty(self):
+        n = self.sweep.num_beams
+        self.assertEqual(len(self.labelled), 2 * n)
+        np.testing.assert_array_equal(self.labelled['echo'], np.repeat([1, 2], n))
+        np.testing.assert_array_equal(self.labelled['beam'], np.tile(np.arange(n), 2))
+        for k, echo in enumerate((self.sweep.echo1, self.sweep.echo2)):
+            for name in 'xyz':  # masked-out beams (sent as zeros) are NaN
+                np.testing.assert_array_equal(self.labelled[name][k * n:(k + 1) * n], echo[name])
+
+    def test_mirror_found_as_a_mirror_within_2cm_and_phantoms_back_projected(self):
+        self.assertEqual(len(self.result['objects']), 1)
+        match = self.result['objects'][0]
+        self.assertTrue(match['matched'], match)
+        self.assertEqual(match['detected_type'], MIRROR, match)
+        self.assertLessEqual(abs(match['width_error']), 0.02, match)
+        self.assertLessEqual(abs(match['height_error']), 0.02, match)
+        self.assertEqual(self.result['false_positive_objects'], [])
+        self.assertLessEqual(self.result['phantom_wrong_place_fraction'], 0.01)
+        self.assertLess(self.result['backprojection_error']['median'], 0.03)
+        self.assertLessEqual(self.result['real_lost_fraction'], 0.005)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('ohm_mirror_detector3d', 'hokuyo3d_legacy', Hokuyo3dLegacy)
