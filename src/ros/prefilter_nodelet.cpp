@@ -148,6 +148,7 @@ void PreFilterNodelet::subscribe()
     legacy_sub_ = pnh.subscribe<topic_tools::ShapeShifter>(
         input_topic_, kInputQueueSize,
         [this](const topic_tools::ShapeShifter::ConstPtr& message) { onLegacyMessage(message); });
+  }
   else if (input_mode_ == "multi_echo_scan")
   {
     scan_input_->reset();
