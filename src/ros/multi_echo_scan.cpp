@@ -275,7 +275,8 @@ MultiEchoScanInput::Projection MultiEchoScanInput::project(const sensor_msgs::Mu
   const ros::Time start = scan.header.stamp;
   const ros::Time end = start + ros::Duration(static_cast<double>(scan.time_increment) * static_cast<double>(n - 1));
 
-  if (!tf_buffer_->canTransform(target, source, start, &reason) || !tf_buffer_->canTransform(target, source, end, &reason))
+  if (!tf_buffer_->canTransform(target, source, start, &reason) ||
+      !tf_buffer_->canTransform(target, source, end, &reason))
   {
     // Will it still come? Only if the newest transform is older than the end of the scan.
     try

@@ -51,12 +51,11 @@ void printHelp(std::ostream& out)
          "  --input-mode MODE    how sweeps are read (default pair):\n";
   for (const ros_io::BagInputMode& mode : ros_io::bagInputModes())
     out << "                         " << mode.name << ": " << mode.help << "\n";
-  out << "  --input-topic T      the input topic of every mode but two_topics; defaults (what\n"
-         "                       synthesize_sweep --bag writes):";
+  out << "  --input-topic T      the input topic of every mode but two_topics; by default what\n"
+         "                       synthesize_sweep --bag writes:\n";
   for (const ros_io::BagInputMode& mode : ros_io::bagInputModes())
     if (mode.default_input_topic != nullptr)
-      out << " " << mode.name << " " << mode.default_input_topic
-          << (&mode == &ros_io::bagInputModes().back() ? "\n" : ",");
+      out << "                         " << mode.name << ": " << mode.default_input_topic << "\n";
   out << "  --echo1-topic T      two_topics: the first echo (default /echo1)\n"
          "  --echo2-topic T      two_topics: the second echo (default /echo2)\n"
          "  --params FILE.yaml   pre-filter parameters, as for the nodelet: the original launch file's names\n"
