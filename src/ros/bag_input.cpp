@@ -1,13 +1,21 @@
 #include "ohm_mirror_detector3d/ros/bag_input.h"
 
 #include <ros/message_traits.h>
+#include <ros/serialization.h>
+#include <sensor_msgs/MultiEchoLaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2/buffer_core.h>
+#include <tf2_msgs/TFMessage.h>
 
+#include <cstdint>
 #include <exception>
 #include <map>
+#include <utility>
 
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
+#include "ohm_mirror_detector3d/ros/dual_return.h"
+#include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -39,11 +47,21 @@ boost::shared_ptr<M> instantiate(const rosbag::MessageInstance& message, std::st
   }
 }
 
+const char* const kPairTopic = "/echo_pair";
+const char* const kDualReturnTopic = "/points";
+const char* const kLegacyTopic = "/coord_dist";
+const char* const kScanTopic = "/scan_echoes";
+
+std::string inputTopic(const BagInputOptions& options, const char* default_topic)
+{
+  return options.input_topic.empty() ? default_topic : options.input_topic;
+}
+
 // pair: one EchoPair per sweep (the nodelet's onEchoPair).
 class PairInput : public BagInput
 {
 public:
-  explicit PairInput(const BagInputOptions& options) : topic_(options.input_topic) {}
+  explicit PairInput(const BagInputOptions& options) : topic_(inputTopic(options, kPairTopic)) {}
 
   std::vector<BagInputTopic> topics() const override { return { topicOf<EchoPair>(topic_, "--input-topic") }; }
 
@@ -143,6 +161,161 @@ private:
   std::map<ros::Time, sensor_msgs::PointCloud2::ConstPtr> pending_[2];
 };
 
+// dual_return: one PointCloud2 with both returns per sweep (the nodelet's onDualReturnCloud).
+class DualReturnInput : public BagInput
+{
+public:
+  explicit DualReturnInput(const BagInputOptions& options)
+    : topic_(inputTopic(options, kDualReturnTopic)), azimuth_resolution_deg_(options.azimuth_resolution_deg)
+  {
+  }
+
+  std::vector<BagInputTopic> topics() const override
+  {
+    return { topicOf<sensor_msgs::PointCloud2>(topic_, "--input-topic") };
+  }
+
+  void add(const rosbag::MessageInstance& message, core::Sweep& sweep, SweepSink& sink) override
+  {
+    std::string problem;
+    const sensor_msgs::PointCloud2::ConstPtr cloud = instantiate<sensor_msgs::PointCloud2>(message, problem);
+    core::DualReturnStats stats;
+    if (cloud)
+      problem = dualReturnCloudToSweep(*cloud, azimuth_resolution_deg_, buffer_, sweep, stats);
+    if (!problem.empty())
+    {
+      sink.sweepDropped(problem, message.getTime());
+      return;
+    }
+    // Points binning could not place are the nodelet's warning; here they are only counted
+    // when the whole cloud is unusable (above).
+    sink.sweepReady(cloud->header, message.getTime());
+  }
+
+private:
+  std::string topic_;
+  double azimuth_resolution_deg_;
+  core::DualReturnInput buffer_;
+};
+
+// hokuyo3d_legacy: ohm_hokuyo3d/CoordDistMulti of the original driver, decoded from the
+// definition recorded in the bag (the nodelet's onLegacyMessage). Any type is read: the
+// decoder names the field a message lacks.
+class Hokuyo3dLegacyInput : public BagInput
+{
+public:
+  explicit Hokuyo3dLegacyInput(const BagInputOptions& options) : topic_(inputTopic(options, kLegacyTopic)) {}
+
+  std::vector<BagInputTopic> topics() const override
+  {
+    return { { topic_, "ohm_hokuyo3d/CoordDistMulti", "*", "--input-topic" } };
+  }
+
+  void add(const rosbag::MessageInstance& message, core::Sweep& sweep, SweepSink& sink) override
+  {
+    std::string problem;
+    std_msgs::Header header;
+    try
+    {
+      bytes_.resize(message.size());
+      ros::serialization::OStream stream(bytes_.data(), static_cast<std::uint32_t>(bytes_.size()));
+      message.write(stream);
+      problem = decoder_.decode(message.getDataType(), message.getMessageDefinition(), bytes_.data(), bytes_.size(),
+                                sweep, header);
+    }
+    catch (const std::exception& e)
+    {
+      problem = "message on " + message.getTopic() + " cannot be read: " + e.what();
+    }
+    if (problem.empty())
+      sink.sweepReady(header, message.getTime());
+    else
+      sink.sweepDropped(message.getDataType() + ": " + problem, message.getTime());
+  }
+
+private:
+  std::string topic_;
+  std::vector<std::uint8_t> bytes_;
+  Hokuyo3dLegacyDecoder decoder_;
+};
+
+// multi_echo_scan: MultiEchoLaserScan projected with tf and assembled per half rotation (the
+// nodelet's MultiEchoScanInput, the same code). Its tf buffer is filled from the bag's /tf and
+// /tf_static in bag order; after every message the scans whose transforms are there are
+// projected, so a sweep is made at the bag time of the message that completed it.
+class MultiEchoScanBagInput : public BagInput
+{
+public:
+  explicit MultiEchoScanBagInput(const BagInputOptions& options)
+    : topic_(inputTopic(options, kScanTopic)), scans_(options.scan_options, tf_, "prefilter_bag")
+  {
+  }
+
+  std::vector<BagInputTopic> topics() const override
+  {
+    std::vector<BagInputTopic> topics = { topicOf<sensor_msgs::MultiEchoLaserScan>(topic_, "--input-topic"),
+                                          topicOf<tf2_msgs::TFMessage>("/tf", ""),
+                                          topicOf<tf2_msgs::TFMessage>("/tf_static", "") };
+    topics.back().required = false;
+    return topics;
+  }
+
+  void add(const rosbag::MessageInstance& message, core::Sweep& sweep, SweepSink& sink) override
+  {
+    std::string problem;
+    if (message.getTopic() == topic_)
+    {
+      const sensor_msgs::MultiEchoLaserScan::ConstPtr scan =
+          instantiate<sensor_msgs::MultiEchoLaserScan>(message, problem);
+      if (scan)
+        problem = scans_.addScan(scan);
+      if (!problem.empty())
+        sink.sweepDropped("scan on " + topic_ + ": " + problem, message.getTime());
+    }
+    else
+    {
+      const tf2_msgs::TFMessage::ConstPtr transforms = instantiate<tf2_msgs::TFMessage>(message, problem);
+      if (!transforms)
+        sink.sweepDropped(problem, message.getTime());
+      else
+      {
+        const bool is_static = message.getTopic() == "/tf_static";
+        for (const geometry_msgs::TransformStamped& transform : transforms->transforms)
+        {
+          try
+          {
+            tf_.setTransform(transform, "bag", is_static);  // logs and ignores a bad transform
+          }
+          catch (const std::exception& e)
+          {
+            sink.sweepDropped("transform on " + message.getTopic() + ": " + e.what(), message.getTime());
+          }
+        }
+      }
+    }
+    const ros::Time bag_time = message.getTime();
+    scans_.drain([&](core::Sweep& assembled, const std_msgs::Header& header) {
+      std::swap(sweep, assembled);
+      sink.sweepReady(header, bag_time);
+    });
+  }
+
+  void finish(SweepSink& sink) override
+  {
+    const std::size_t waiting = scans_.pendingScans();
+    for (std::size_t i = 0; i < waiting; ++i)
+      sink.sweepDropped("scan on " + topic_ + " still waits for its transform to " +
+                            scans_.options().sweep_frame + " at the end of the bag",
+                        ros::Time());
+    scans_.reset();
+  }
+
+private:
+  std::string topic_;
+  tf2::BufferCore tf_;  // default cache time, as the nodelet's tf2_ros::Buffer
+  MultiEchoScanInput scans_;
+};
+
 template <typename Input>
 std::unique_ptr<BagInput> make(const BagInputOptions& options)
 {
@@ -153,11 +326,16 @@ std::unique_ptr<BagInput> make(const BagInputOptions& options)
 const std::vector<BagInputMode>& bagInputModes()
 {
   static const std::vector<BagInputMode> modes = {
-    { "pair", "one ohm_mirror_detector3d/EchoPair per sweep on --input-topic", &make<PairInput> },
+    { "pair", "one ohm_mirror_detector3d/EchoPair per sweep on --input-topic", kPairTopic, &make<PairInput> },
     { "two_topics", "two sensor_msgs/PointCloud2 per sweep, on --echo1-topic and --echo2-topic, same stamp",
-      &make<TwoTopicsInput> },
-    // dual_return, hokuyo3d_legacy, multi_echo_scan: a BagInput above and a row here. A mode
-    // that needs tf (multi_echo_scan) lists /tf and /tf_static among its topics().
+      nullptr, &make<TwoTopicsInput> },
+    { "dual_return", "one sensor_msgs/PointCloud2 per sweep with both returns (fields return, ring) on --input-topic",
+      kDualReturnTopic, &make<DualReturnInput> },
+    { "hokuyo3d_legacy", "one ohm_hokuyo3d/CoordDistMulti per sweep on --input-topic, decoded from its definition",
+      kLegacyTopic, &make<Hokuyo3dLegacyInput> },
+    { "multi_echo_scan",
+      "sensor_msgs/MultiEchoLaserScan on --input-topic with /tf (and /tf_static), assembled per half rotation",
+      kScanTopic, &make<MultiEchoScanBagInput> },
   };
   return modes;
 }

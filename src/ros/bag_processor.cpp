@@ -68,11 +68,17 @@ void checkTopics(rosbag::Bag& bag, const std::string& path, const std::string& m
   {
     const auto found = connections.find(wanted.topic);
     if (found == connections.end())
-      throw BagToolError(path + " has no topic " + wanted.topic + " (input mode " + mode + "; name another with " +
-                         wanted.option + " or choose another --input-mode). Its topics are:" +
-                         describeTopics(bag));
+    {
+      if (!wanted.required)
+        continue;
+      throw BagToolError(path + " has no topic " + wanted.topic + " (input mode " + mode + "; " +
+                         (wanted.option.empty() ? "" : "name another with " + wanted.option + " or ") +
+                         "choose another --input-mode). Its topics are:" + describeTopics(bag));
+    }
     for (const rosbag::ConnectionInfo* connection : found->second)
     {
+      if (wanted.md5sum == "*")
+        continue;  // any type: the mode's decoder names what a message lacks
       if (connection->datatype != wanted.datatype)
         throw BagToolError("topic " + wanted.topic + " in " + path + " has type " + connection->datatype +
                            ", but input mode " + mode + " needs " + wanted.datatype + ". The bag's topics are:" +

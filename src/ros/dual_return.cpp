@@ -13,6 +13,17 @@ namespace ros_io
 const char* const kReturnFieldNames[3] = { "return", "return_type", "echo" };
 const char* const kRingFieldNames[2] = { "ring", "channel" };
 
+double readAzimuthResolution(const ParamSource& source, std::vector<std::string>& errors)
+{
+  double resolution = core::kDefaultAzimuthResolutionDeg;
+  if (source.has("azimuth_resolution_deg") && !source.get("azimuth_resolution_deg", resolution))
+    errors.push_back("parameter " + source.describe("azimuth_resolution_deg") +
+                     " has the wrong type: expected a number");
+  else if (!core::validateAzimuthResolution(resolution).empty())
+    errors.push_back(core::validateAzimuthResolution(resolution));
+  return resolution;
+}
+
 std::string readDualReturnCloud(const sensor_msgs::PointCloud2& cloud, core::DualReturnInput& input)
 {
   std::string used;

@@ -36,45 +36,50 @@ std::string formatTime(const ros::Time& t)
 }
 }  // namespace
 
-MultiEchoScanOptions readMultiEchoScanOptions(const ros::NodeHandle& private_nh, std::vector<std::string>& errors)
+MultiEchoScanOptions readMultiEchoScanOptions(const ParamSource& source, std::vector<std::string>& errors)
 {
   MultiEchoScanOptions options;
-  if (!private_nh.hasParam("sweep_frame"))
-    errors.push_back("parameter " + private_nh.resolveName("sweep_frame") +
+  if (!source.has("sweep_frame"))
+    errors.push_back("parameter " + source.describe("sweep_frame") +
                      " is required in input_mode multi_echo_scan: the fixed frame to assemble sweeps in "
                      "(e.g. base_link)");
-  else if (!private_nh.getParam("sweep_frame", options.sweep_frame) || options.sweep_frame.empty())
-    errors.push_back("parameter " + private_nh.resolveName("sweep_frame") + " must be a non-empty frame name");
+  else if (!source.get("sweep_frame", options.sweep_frame) || options.sweep_frame.empty())
+    errors.push_back("parameter " + source.describe("sweep_frame") + " must be a non-empty frame name");
   else if (options.sweep_frame[0] == '/')
     options.sweep_frame.erase(0, 1);  // tf2 frame names have no leading slash
 
-  if (private_nh.hasParam("sweep_period"))
+  if (source.has("sweep_period"))
   {
-    if (!private_nh.getParam("sweep_period", options.sweep_period))
-      errors.push_back("parameter " + private_nh.resolveName("sweep_period") + " has the wrong type: expected a number");
+    if (!source.get("sweep_period", options.sweep_period))
+      errors.push_back("parameter " + source.describe("sweep_period") + " has the wrong type: expected a number");
     else if (!std::isfinite(options.sweep_period) || options.sweep_period < 0.0)
-      errors.push_back("parameter " + private_nh.resolveName("sweep_period") + " = " +
+      errors.push_back("parameter " + source.describe("sweep_period") + " = " +
                        std::to_string(options.sweep_period) +
                        " is out of range: allowed >= 0 [s] (0 = one sweep per half rotation)");
   }
 
-  if (private_nh.hasParam("rotation_axis"))
+  if (source.has("rotation_axis"))
   {
     std::vector<double> axis;
-    if (!private_nh.getParam("rotation_axis", axis) || axis.size() != 3)
-      errors.push_back("parameter " + private_nh.resolveName("rotation_axis") +
+    if (!source.get("rotation_axis", axis) || axis.size() != 3)
+      errors.push_back("parameter " + source.describe("rotation_axis") +
                        " must be a list of three numbers [x, y, z] (the axis in sweep_frame)");
     else
     {
       const Eigen::Vector3d v(axis[0], axis[1], axis[2]);
       if (!v.allFinite() || v.norm() < 1e-9)
-        errors.push_back("parameter " + private_nh.resolveName("rotation_axis") +
+        errors.push_back("parameter " + source.describe("rotation_axis") +
                          " must be a finite, non-zero vector [x, y, z]");
       else
         options.rotation_axis = v.normalized();
     }
   }
   return options;
+}
+
+MultiEchoScanOptions readMultiEchoScanOptions(const ros::NodeHandle& private_nh, std::vector<std::string>& errors)
+{
+  return readMultiEchoScanOptions(NodeHandleParamSource(private_nh), errors);
 }
 
 std::string checkMultiEchoScan(const sensor_msgs::MultiEchoLaserScan& scan)
@@ -126,7 +131,19 @@ MultiEchoScanInput::MultiEchoScanInput(const MultiEchoScanOptions& options, cons
   , assembler_(options.sweep_period > 0.0 ? options.sweep_period : core::SweepAssembler::kHalfRotation,
                !(options.sweep_period > 0.0))
 {
-  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_, nh, true);
+  own_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*own_buffer_, nh, true);
+  tf_buffer_ = own_buffer_.get();
+}
+
+MultiEchoScanInput::MultiEchoScanInput(const MultiEchoScanOptions& options, const tf2::BufferCore& buffer,
+                                       const std::string& name)
+  : options_(options)
+  , name_(name)
+  , tf_buffer_(&buffer)
+  , assembler_(options.sweep_period > 0.0 ? options.sweep_period : core::SweepAssembler::kHalfRotation,
+               !(options.sweep_period > 0.0))
+{
 }
 
 MultiEchoScanInput::~MultiEchoScanInput() = default;
@@ -161,6 +178,12 @@ std::string MultiEchoScanInput::addScan(const sensor_msgs::MultiEchoLaserScan::C
   }
   pending_.push_back(Pending{ scan, ros::WallTime::now() });
   return std::string();
+}
+
+std::size_t MultiEchoScanInput::pendingScans()
+{
+  std::lock_guard<std::mutex> lock(pending_mutex_);
+  return pending_.size();
 }
 
 void MultiEchoScanInput::reset()
@@ -252,12 +275,13 @@ MultiEchoScanInput::Projection MultiEchoScanInput::project(const sensor_msgs::Mu
   const ros::Time start = scan.header.stamp;
   const ros::Time end = start + ros::Duration(static_cast<double>(scan.time_increment) * static_cast<double>(n - 1));
 
-  if (!tf_buffer_.canTransform(target, source, start, &reason) || !tf_buffer_.canTransform(target, source, end, &reason))
+  if (!tf_buffer_->canTransform(target, source, start, &reason) ||
+      !tf_buffer_->canTransform(target, source, end, &reason))
   {
     // Will it still come? Only if the newest transform is older than the end of the scan.
     try
     {
-      const ros::Time latest = tf_buffer_.lookupTransform(target, source, ros::Time(0)).header.stamp;
+      const ros::Time latest = tf_buffer_->lookupTransform(target, source, ros::Time(0)).header.stamp;
       if (!latest.isZero() && latest >= end)
         return Projection::never;
     }
@@ -296,7 +320,7 @@ MultiEchoScanInput::Projection MultiEchoScanInput::project(const sensor_msgs::Mu
       const ros::Time t = start + ros::Duration(static_cast<double>(scan.time_increment) * static_cast<double>(i));
       if (i == 0 || t != pose_time)
       {
-        pose = toEigen(tf_buffer_.lookupTransform(target, source, t).transform);
+        pose = toEigen(tf_buffer_->lookupTransform(target, source, t).transform);
         rotation = pose.linear().cast<float>();
         translation = pose.translation().cast<float>();
         pose_time = t;

@@ -73,19 +73,6 @@ void readAliased(const ParamSource& source, const ParamName& param, T& field, st
   else if (has_paper_name)
     field = by_paper_name;
 }
-// The parameter server, under the node's private namespace.
-class NodeHandleSource : public ParamSource
-{
-public:
-  explicit NodeHandleSource(const ros::NodeHandle& nh) : nh_(nh) {}
-  bool has(const std::string& name) const override { return nh_.hasParam(name); }
-  bool get(const std::string& name, double& value) const override { return nh_.getParam(name, value); }
-  bool get(const std::string& name, int& value) const override { return nh_.getParam(name, value); }
-  std::string describe(const std::string& name) const override { return nh_.resolveName(name); }
-
-private:
-  const ros::NodeHandle& nh_;
-};
 }  // namespace
 
 core::Params readParams(const ParamSource& source, std::vector<std::string>& errors)
@@ -103,7 +90,7 @@ core::Params readParams(const ParamSource& source, std::vector<std::string>& err
 
 core::Params readParams(const ros::NodeHandle& private_nh, std::vector<std::string>& errors)
 {
-  return readParams(NodeHandleSource(private_nh), errors);
+  return readParams(NodeHandleParamSource(private_nh), errors);
 }
 
 void writeParams(const ros::NodeHandle& private_nh, const core::Params& params)

@@ -5,11 +5,14 @@
 #include <exception>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "ohm_mirror_detector3d/ros/bag_processor.h"
+#include "ohm_mirror_detector3d/ros/dual_return.h"
+#include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 #include "ohm_mirror_detector3d/ros/yaml_params.h"
 
@@ -38,21 +41,31 @@ void printHelp(std::ostream& out)
          "PREFIX/labelled, PREFIX/cleaned (sensor_msgs/PointCloud2), PREFIX/objects\n"
          "(ohm_mirror_detector3d/ReflectiveObjectArray) and PREFIX/markers (visualization_msgs/MarkerArray),\n"
          "stamped and framed like their input, at the bag time of their input message (in two_topics mode:\n"
-         "of the later cloud of the pair). Every other message of IN.bag, the input topics included, is\n"
-         "copied unchanged at its own bag time, unless --only-outputs. Messages already on the output\n"
-         "topics in IN.bag are not copied: the new outputs replace them.\n"
+         "of the later cloud of the pair; in multi_echo_scan mode: stamped and framed like the assembled\n"
+         "sweep, at the bag time of the scan or tf message that completed it). Every other message of\n"
+         "IN.bag, the input topics included, is copied unchanged at its own bag time, unless\n"
+         "--only-outputs. Messages already on the output topics in IN.bag are not copied: the new\n"
+         "outputs replace them.\n"
          "\n"
          "Options:\n"
          "  --input-mode MODE    how sweeps are read (default pair):\n";
   for (const ros_io::BagInputMode& mode : ros_io::bagInputModes())
     out << "                         " << mode.name << ": " << mode.help << "\n";
-  out << "  --input-topic T      pair: the EchoPair topic (default /echo_pair)\n"
-         "  --echo1-topic T      two_topics: the first echo (default /echo1)\n"
+  out << "  --input-topic T      the input topic of every mode but two_topics; by default what\n"
+         "                       synthesize_sweep --bag writes:\n";
+  for (const ros_io::BagInputMode& mode : ros_io::bagInputModes())
+    if (mode.default_input_topic != nullptr)
+      out << "                         " << mode.name << ": " << mode.default_input_topic << "\n";
+  out << "  --echo1-topic T      two_topics: the first echo (default /echo1)\n"
          "  --echo2-topic T      two_topics: the second echo (default /echo2)\n"
          "  --params FILE.yaml   pre-filter parameters, as for the nodelet: the original launch file's names\n"
          "                       (outlierFilter_searchRadius, ...) or the paper's symbols (r, ...), e.g.\n"
          "                       launch/rotating_hokuyo_params.yaml; its input_mode is used unless\n"
          "                       --input-mode is given. Bad values are refused with the nodelet's messages.\n"
+         "                       Also the modes' start-up parameters, as for the nodelet: dual_return:\n"
+         "                       azimuth_resolution_deg (default 360/2048); multi_echo_scan: sweep_frame\n"
+         "                       (required), sweep_period (default 0: per half rotation), rotation_axis\n"
+         "                       (default [0, 0, 1]). multi_echo_scan reads tf from /tf and /tf_static.\n"
          "  --only-outputs       write only the four outputs, copy nothing else\n"
          "  --prefix NS          namespace of the outputs (default /prefilter)\n"
          "  -v, --verbose        a timing line per sweep, every dropped input\n"
@@ -70,6 +83,18 @@ void printHelp(std::ostream& out)
 struct UsageError : std::runtime_error
 {
   using std::runtime_error::runtime_error;
+};
+
+// No --params: every parameter keeps its default (a required one is reported missing).
+class NoParams : public ros_io::ParamSource
+{
+public:
+  bool has(const std::string& /*name*/) const override { return false; }
+  bool get(const std::string& /*name*/, double& /*value*/) const override { return false; }
+  bool get(const std::string& /*name*/, int& /*value*/) const override { return false; }
+  bool get(const std::string& /*name*/, std::string& /*value*/) const override { return false; }
+  bool get(const std::string& /*name*/, std::vector<double>& /*value*/) const override { return false; }
+  std::string describe(const std::string& name) const override { return name + " (give it in a --params file)"; }
 };
 
 std::string joinLines(const std::vector<std::string>& lines)
@@ -128,36 +153,25 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
   options.output_path = positional[1];
 
   // Parameters first: the file may name the input mode.
+  std::unique_ptr<ros_io::YamlParamFile> file;
+  const std::string params_path = given.count("--params") > 0 ? given["--params"] : "";
+  std::vector<std::string> errors;
   std::string file_input_mode;
-  if (given.count("--params") > 0)
+  if (!params_path.empty())
   {
-    const std::string& path = given["--params"];
     try
     {
-      const ros_io::YamlParamFile file(path);
-      std::vector<std::string> errors;
-      options.params = ros_io::readParams(file, errors);
-      const std::vector<std::string> range_errors = options.params.validate();
-      errors.insert(errors.end(), range_errors.begin(), range_errors.end());
-      if (file.has("input_mode") && !file.get("input_mode", file_input_mode))
-        errors.push_back("parameter " + file.describe("input_mode") + " has the wrong type: expected a string");
-      if (!errors.empty())
-        throw UsageError("refusing to start, bad parameters in " + path + ":" + joinLines(errors));
-      const std::vector<std::string> unused = file.unusedNames();
-      if (!unused.empty())
-      {
-        std::cerr << "prefilter_bag: note: " << path << " sets parameters that prefilter_bag does not use:";
-        for (const std::string& name : unused)
-          std::cerr << " " << name;
-        std::cerr << "\n";
-      }
+      file.reset(new ros_io::YamlParamFile(params_path));
     }
     catch (const std::runtime_error& e)
     {
-      if (dynamic_cast<const UsageError*>(&e) != nullptr)
-        throw;
       throw UsageError(e.what());
     }
+    options.params = ros_io::readParams(*file, errors);
+    const std::vector<std::string> range_errors = options.params.validate();
+    errors.insert(errors.end(), range_errors.begin(), range_errors.end());
+    if (file->has("input_mode") && !file->get("input_mode", file_input_mode))
+      errors.push_back("parameter " + file->describe("input_mode") + " has the wrong type: expected a string");
   }
   if (given.count("--input-mode") > 0)
     options.input_mode = given["--input-mode"];
@@ -170,6 +184,26 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     for (const ros_io::BagInputMode& m : ros_io::bagInputModes())
       allowed += std::string(allowed.empty() ? "" : ", ") + "'" + m.name + "'";
     throw UsageError("input_mode '" + options.input_mode + "' is unknown: allowed values are " + allowed);
+  }
+  // The start-up parameters of the input modes, read as the nodelet reads them.
+  const NoParams no_params;
+  const ros_io::ParamSource& source = file ? static_cast<const ros_io::ParamSource&>(*file) : no_params;
+  options.input.azimuth_resolution_deg = ros_io::readAzimuthResolution(source, errors);
+  if (options.input_mode == "multi_echo_scan")
+    options.input.scan_options = ros_io::readMultiEchoScanOptions(source, errors);
+  if (!errors.empty())
+    throw UsageError("refusing to start, bad parameters" + (file ? " in " + params_path : std::string()) + ":" +
+                     joinLines(errors));
+  if (file)
+  {
+    const std::vector<std::string> unused = file->unusedNames();
+    if (!unused.empty())
+    {
+      std::cerr << "prefilter_bag: note: " << params_path << " sets parameters that prefilter_bag does not use:";
+      for (const std::string& name : unused)
+        std::cerr << " " << name;
+      std::cerr << "\n";
+    }
   }
   if (given.count("--input-topic") > 0)
     options.input.input_topic = given["--input-topic"];

@@ -69,11 +69,7 @@ void PreFilterNodelet::onInit()
   ros_io::MultiEchoScanOptions scan_options;
   if (input_mode_ == "multi_echo_scan")
     scan_options = ros_io::readMultiEchoScanOptions(pnh, errors);
-  if (pnh.hasParam("azimuth_resolution_deg") && !pnh.getParam("azimuth_resolution_deg", azimuth_resolution_deg_))
-    errors.push_back("parameter " + pnh.resolveName("azimuth_resolution_deg") +
-                     " has the wrong type: expected a number");
-  else if (!core::validateAzimuthResolution(azimuth_resolution_deg_).empty())
-    errors.push_back(core::validateAzimuthResolution(azimuth_resolution_deg_));
+  azimuth_resolution_deg_ = ros_io::readAzimuthResolution(ros_io::NodeHandleParamSource(pnh), errors);
   if (!errors.empty())
   {
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);

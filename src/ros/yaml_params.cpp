@@ -85,17 +85,25 @@ YamlParamFile::YamlParamFile(const std::string& path) : path_(path)
     return;  // an empty file sets nothing
   if (!root.IsMap())
     throw std::runtime_error("parameter file " + path + " must be a map of parameter names to values");
+  const auto toValue = [](const YAML::Node& node) {
+    Value value;
+    value.scalar = node.IsScalar();
+    if (value.scalar)
+    {
+      value.text = node.Scalar();
+      // yaml-cpp tags plain scalars "?" and quoted ones "!".
+      value.plain = node.Tag() != "!";
+    }
+    return value;
+  };
   for (const auto& entry : root)
   {
     const std::string name = entry.first.as<std::string>();
-    Value value;
-    value.scalar = entry.second.IsScalar();
-    if (value.scalar)
-    {
-      value.text = entry.second.Scalar();
-      // yaml-cpp tags plain scalars "?" and quoted ones "!".
-      value.plain = entry.second.Tag() != "!";
-    }
+    Value value = toValue(entry.second);
+    value.list = entry.second.IsSequence();
+    if (value.list)
+      for (const auto& item : entry.second)
+        value.items.push_back(toValue(item));
     if (values_.count(name) == 0)
       order_.push_back(name);
     values_[name] = value;
@@ -132,6 +140,19 @@ bool YamlParamFile::get(const std::string& name, std::string& value) const
   if (v == nullptr || !v->scalar)
     return false;
   value = v->text;
+  return true;
+}
+
+bool YamlParamFile::get(const std::string& name, std::vector<double>& value) const
+{
+  const Value* v = find(name);
+  if (v == nullptr || !v->list)
+    return false;
+  std::vector<double> numbers(v->items.size());
+  for (std::size_t i = 0; i < numbers.size(); ++i)
+    if (!v->items[i].scalar || !v->items[i].plain || !parseNumber(v->items[i].text, numbers[i]))
+      return false;
+  value = numbers;
   return true;
 }
 

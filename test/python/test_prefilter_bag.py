@@ -235,3 +235,83 @@ def test_interrupt_removes_the_partial_output(binary, ros_messages, tmp_path):
     assert p.wait(timeout=60) == 130, rest
     assert 'interrupted' in rest and 'removed the incomplete output' in rest
     assert_no_output(out_bag)
+
+
+SYNTHESIZE = os.path.join(REPO, 'scripts', 'synthesize_sweep')
+
+
+def synthesize(path, *args):
+    subprocess.run(['/usr/bin/python3', SYNTHESIZE, '--scene', 'experiment1', '--count', '2', '--bag', str(path)] +
+                   [str(a) for a in args], check=True, stdout=subprocess.PIPE, timeout=120)
+
+
+def assert_finds_the_mirror(in_bag, out_bag, sweeps=2):
+    from ohm_mirror_detector3d import evaluation
+    _, summary, _ = evaluation.evaluate_bags(str(out_bag), str(in_bag))
+    assert summary['sweeps'] == sweeps
+    mirror, = summary['objects']
+    assert mirror['truth_type'] == 1 and mirror['detection_rate'] == 1.0 and mirror['type_correct_rate'] == 1.0
+
+
+@pytest.mark.parametrize('mode, fmt, topic', [
+    ('dual_return', ['--format', 'dual_return_cloud', '--model', 'dual_return', '--scans', '32',
+                     '--vertical-fov', '-45', '45'], '/points'),
+    ('hokuyo3d_legacy', ['--format', 'hokuyo3d_legacy', '--scans', '100'], '/coord_dist'),
+])
+def test_one_message_per_sweep_modes(binary, ros_messages, tmp_path, mode, fmt, topic):
+    in_bag, out_bag = tmp_path / 'in.bag', tmp_path / 'out.bag'
+    synthesize(in_bag, *fmt)
+    params = os.path.join(REPO, 'launch', 'dual_return_params.yaml' if mode == 'dual_return' else
+                          'rotating_hokuyo_params.yaml')
+    p = run(binary, in_bag, out_bag, '--params', params, '--input-mode', mode)  # default --input-topic
+    assert 'sweeps processed: 2' in p.stderr and 'sweeps dropped:   0' in p.stderr
+    inputs = read_all(in_bag, [topic])
+    for output in OUTPUTS:
+        written = read_all(out_bag, [output])
+        assert [t for _, _, t in written] == [t for _, _, t in inputs]  # at the input's bag time
+        if output != '/prefilter/markers':
+            assert [m.header.stamp for _, m, _ in written] == [t for _, _, t in inputs]
+    assert_finds_the_mirror(in_bag, out_bag)
+
+
+def test_multi_echo_scan_mode(binary, ros_messages, tmp_path):
+    in_bag, out_bag = tmp_path / 'in.bag', tmp_path / 'out.bag'
+    synthesize(in_bag, '--format', 'multi_echo_scan', '--scans', '100')
+    params = tmp_path / 'params.yaml'
+    with open(PARAMS) as f:
+        params.write_text(f.read().replace('input_mode: pair', 'input_mode: multi_echo_scan') +
+                          '\nsweep_frame: base_link\nrotation_axis: [0, 0, 1]\n')
+    p = run(binary, in_bag, out_bag, '--params', params)
+    assert 'sweeps processed: 2' in p.stderr and 'sweeps dropped:   0' in p.stderr
+    truth = [m.header.stamp for _, m, _ in read_all(in_bag, ['/ground_truth'])]
+    labelled = read_all(out_bag, ['/prefilter/labelled'])
+    assert [m.header.stamp for _, m, _ in labelled] == truth  # the assembled sweep's header
+    assert all(m.header.frame_id == 'base_link' for _, m, _ in labelled)
+    later = [t for _, _, t in read_all(in_bag, ['/scan_echoes', '/tf'])]
+    for stamp, (_, _, bag_time) in zip(truth, labelled):
+        assert bag_time > stamp and bag_time in later  # the bag time of the message that completed it
+    assert_finds_the_mirror(in_bag, out_bag)
+
+    # sweep_frame is required, as in the nodelet; /tf is required.
+    p = run(binary, in_bag, tmp_path / 'x.bag', '--input-mode', 'multi_echo_scan', check=False)
+    assert p.returncode == 2 and 'sweep_frame' in p.stderr and 'is required' in p.stderr
+    p = run(binary, in_bag, tmp_path / 'x.bag', '--params', params, '--input-topic', '/scans', check=False)
+    assert p.returncode == 1 and 'no topic /scans' in p.stderr
+    assert '/scan_echoes  sensor_msgs/MultiEchoLaserScan' in p.stderr
+
+
+def test_legacy_definition_without_coords_is_dropped_naming_it(binary, ros_messages, tmp_path):
+    import rosbag
+    in_bag, bad_bag, out_bag = tmp_path / 'in.bag', tmp_path / 'bad.bag', tmp_path / 'out.bag'
+    synthesize(in_bag, '--format', 'hokuyo3d_legacy', '--scans', '30')
+    with rosbag.Bag(str(in_bag)) as src, rosbag.Bag(str(bad_bag), 'w') as dst:
+        for topic, raw, t in src.read_messages(topics=['/coord_dist'], raw=True):
+            datatype, data, md5, _, pytype = raw
+            # The same bytes, but the definition calls the field `points`: no `coords`.
+            definition = pytype._full_text.replace('float32[] coords', 'float32[] points')
+            assert definition != pytype._full_text
+            fake = type('NoCoords', (), {'_type': datatype, '_md5sum': md5, '_full_text': definition})
+            dst.write(topic, (datatype, data, md5, None, fake), t, raw=True)
+    p = run(binary, bad_bag, out_bag, '--input-mode', 'hokuyo3d_legacy')
+    assert 'sweeps processed: 0' in p.stderr and 'sweeps dropped:   2' in p.stderr
+    assert "coords'" in p.stderr and p.stderr.count('dropping input') == 2  # names the field

@@ -1,8 +1,9 @@
 // prefilter_bag's input modes: which topics of a bag a mode reads and how their messages
 // become sweeps, with the nodelet's conversion functions (conversions.h).
 //
-// A new mode (dual_return, hokuyo3d_legacy, multi_echo_scan, ...) adds a BagInput
-// subclass in bag_input.cpp and a row in bagInputModes(); nothing else changes.
+// Each mode is a BagInput subclass in bag_input.cpp and a row in bagInputModes(), and runs
+// the nodelet's conversion for its input (pair, two_topics, dual_return, hokuyo3d_legacy,
+// multi_echo_scan).
 #pragma once
 
 #include <ros/time.h>
@@ -13,18 +14,24 @@
 #include <string>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 
 namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
-// The topics the modes read (prefilter_bag's --input-topic, --echo1-topic, --echo2-topic).
+// What the modes read: their topics (prefilter_bag's --input-topic, --echo1-topic,
+// --echo2-topic) and their start-up parameters (from --params, read as the nodelet reads them).
 struct BagInputOptions
 {
-  std::string input_topic = "/echo_pair";  // pair (what synthesize_sweep --bag writes)
-  std::string echo1_topic = "/echo1";      // two_topics
+  std::string input_topic;             // pair, dual_return, hokuyo3d_legacy, multi_echo_scan;
+                                       // empty: the mode's default_input_topic
+  std::string echo1_topic = "/echo1";  // two_topics
   std::string echo2_topic = "/echo2";
+  double azimuth_resolution_deg = core::kDefaultAzimuthResolutionDeg;  // dual_return
+  MultiEchoScanOptions scan_options;                                   // multi_echo_scan
 };
 
 // A topic a mode reads and the message type it must have there.
@@ -33,7 +40,9 @@ struct BagInputTopic
   std::string topic;
   std::string datatype;  // e.g. ohm_mirror_detector3d/EchoPair
   std::string md5sum;    // of this build's definition of datatype
-  std::string option;    // the command-line option that names the topic, for error messages
+  std::string option;    // the command-line option that names the topic, for error messages;
+                         // empty for a fixed name (/tf, /tf_static)
+  bool required = true;  // false: the bag may lack it (/tf_static)
 };
 
 // Receives what a mode makes of the messages.
@@ -65,6 +74,8 @@ struct BagInputMode
 {
   const char* name;
   const char* help;  // one line for --help
+  // What scripts/synthesize_sweep --bag writes for this mode; null for two_topics.
+  const char* default_input_topic;
   std::unique_ptr<BagInput> (*make)(const BagInputOptions& options);
 };
 

@@ -4,9 +4,11 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include <string>
+#include <vector>
 
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -15,6 +17,11 @@ namespace ros_io
 // Field names accepted for the return index and the ring, first match wins.
 extern const char* const kReturnFieldNames[3];  // return, return_type, echo
 extern const char* const kRingFieldNames[2];    // ring, channel
+
+// Reads `azimuth_resolution_deg` (default core::kDefaultAzimuthResolutionDeg); appends a
+// message to `errors` when it has the wrong type or is out of range. The nodelet and
+// prefilter_bag both read it here.
+double readAzimuthResolution(const ParamSource& source, std::vector<std::string>& errors);
 
 // Reads x y z (float32), the optional numeric intensity, a return-index field and a ring
 // field (integer types) of every point (row-major) into `input`. Returns an empty string on

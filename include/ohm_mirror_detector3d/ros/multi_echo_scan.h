@@ -7,6 +7,7 @@
 #include <ros/time.h>
 #include <sensor_msgs/MultiEchoLaserScan.h>
 #include <std_msgs/Header.h>
+#include <tf2/buffer_core.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/sweep_assembler.h"
+#include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -33,8 +35,10 @@ struct MultiEchoScanOptions
   std::size_t max_pending_scans = 400;  // scans waiting for their transforms (10 s at 40 Hz)
 };
 
-// Reads `sweep_frame`, `sweep_period` and `rotation_axis` from the private node handle;
-// appends a message naming the parameter and its allowed values for every bad one.
+// Reads `sweep_frame`, `sweep_period` and `rotation_axis` (the nodelet: from its private
+// node handle; prefilter_bag: from its --params file); appends a message naming the
+// parameter and its allowed values for every bad one.
+MultiEchoScanOptions readMultiEchoScanOptions(const ParamSource& source, std::vector<std::string>& errors);
 MultiEchoScanOptions readMultiEchoScanOptions(const ros::NodeHandle& private_nh, std::vector<std::string>& errors);
 
 // What is wrong with a scan ("" when it can be used): no beams, ranges and intensities of
@@ -53,8 +57,11 @@ public:
   using SweepSink = std::function<void(core::Sweep& sweep, const std_msgs::Header& header)>;
 
   // Listens to tf (/tf, /tf_static) on `nh` in a thread of its own, so transforms keep
-  // arriving while the pipeline runs. `name` prefixes the log messages.
+  // arriving while the pipeline runs (the nodelet). `name` prefixes the log messages.
   MultiEchoScanInput(const MultiEchoScanOptions& options, const ros::NodeHandle& nh, const std::string& name);
+  // Looks transforms up in `buffer`, which the caller fills and keeps alive (prefilter_bag
+  // fills it from the bag's /tf and /tf_static, in bag order, and calls drain() after each).
+  MultiEchoScanInput(const MultiEchoScanOptions& options, const tf2::BufferCore& buffer, const std::string& name);
   ~MultiEchoScanInput();
 
   // Checks a scan and queues it; returns the problem ("" when queued). A full queue drops
@@ -70,6 +77,8 @@ public:
   void reset();
 
   const MultiEchoScanOptions& options() const { return options_; }
+  // Scans queued and not yet projected (waiting for their transforms).
+  std::size_t pendingScans();
 
 private:
   enum class Projection
@@ -89,8 +98,9 @@ private:
 
   MultiEchoScanOptions options_;
   std::string name_;
-  tf2_ros::Buffer tf_buffer_;
+  std::unique_ptr<tf2_ros::Buffer> own_buffer_;  // with a node handle: filled by tf_listener_
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  const tf2::BufferCore* tf_buffer_ = nullptr;  // own_buffer_ or the caller's
 
   std::mutex pending_mutex_;  // guards pending_, last_stamp_, reset_requested_
   std::deque<Pending> pending_;

@@ -25,8 +25,27 @@ public:
   // integer), as ros::NodeHandle::getParam.
   virtual bool get(const std::string& name, double& value) const = 0;
   virtual bool get(const std::string& name, int& value) const = 0;
+  // False when the value is not a string, or not a list of numbers.
+  virtual bool get(const std::string& name, std::string& value) const = 0;
+  virtual bool get(const std::string& name, std::vector<double>& value) const = 0;
   // How messages name the parameter, e.g. its resolved name.
   virtual std::string describe(const std::string& name) const = 0;
+};
+
+// The parameter server under a node's private namespace; names are described resolved.
+class NodeHandleParamSource : public ParamSource
+{
+public:
+  explicit NodeHandleParamSource(const ros::NodeHandle& nh) : nh_(nh) {}
+  bool has(const std::string& name) const override { return nh_.hasParam(name); }
+  bool get(const std::string& name, double& value) const override { return nh_.getParam(name, value); }
+  bool get(const std::string& name, int& value) const override { return nh_.getParam(name, value); }
+  bool get(const std::string& name, std::string& value) const override { return nh_.getParam(name, value); }
+  bool get(const std::string& name, std::vector<double>& value) const override { return nh_.getParam(name, value); }
+  std::string describe(const std::string& name) const override { return nh_.resolveName(name); }
+
+private:
+  const ros::NodeHandle& nh_;
 };
 
 core::Params readParams(const ParamSource& source, std::vector<std::string>& errors);

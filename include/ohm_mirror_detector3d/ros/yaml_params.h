@@ -26,8 +26,10 @@ public:
   // 0.2, 1e-3, .inf are numbers; quoted scalars, booleans, lists and maps are neither.
   bool get(const std::string& name, double& value) const override;
   bool get(const std::string& name, int& value) const override;
-  // Any scalar (input_mode).
-  bool get(const std::string& name, std::string& value) const;
+  // Any scalar (input_mode, sweep_frame).
+  bool get(const std::string& name, std::string& value) const override;
+  // A list of numbers (rotation_axis).
+  bool get(const std::string& name, std::vector<double>& value) const override;
   std::string describe(const std::string& name) const override;
 
   // The names in the file that nothing asked for (misspelt or not used here), in file order.
@@ -39,6 +41,8 @@ private:
     bool scalar = false;  // false for null, lists and maps
     bool plain = false;   // an unquoted scalar: may be a number
     std::string text;
+    bool list = false;
+    std::vector<Value> items;  // of a list
   };
   const Value* find(const std::string& name) const;
 
