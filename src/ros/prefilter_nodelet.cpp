@@ -16,6 +16,8 @@ namespace
 {
 // Throttle period of the errors about bad input, so a broken driver cannot flood the log.
 constexpr double kErrorThrottleSeconds = 5.0;
+// How long a sweep waits for the transform of sensor_frame at its stamp.
+constexpr double kTfWaitSeconds = 0.2;
 // A sweep is large and a late one is worth less than the next: keep few.
 constexpr std::uint32_t kInputQueueSize = 2;
 
@@ -70,6 +72,12 @@ void PreFilterNodelet::onInit()
   if (input_mode_ == "multi_echo_scan")
     scan_options = ros_io::readMultiEchoScanOptions(pnh, errors);
   azimuth_resolution_deg_ = ros_io::readAzimuthResolution(ros_io::NodeHandleParamSource(pnh), errors);
+  pnh.param<std::string>("sensor_frame", sensor_frame_, "");
+  if (!sensor_frame_.empty() && sensor_frame_[0] == '/')
+    sensor_frame_.erase(0, 1);
+  if (!sensor_frame_.empty() && input_mode_ == "multi_echo_scan")
+    errors.push_back("sensor_frame is not used in input_mode multi_echo_scan (the origin comes from the scans' "
+                     "frame in sweep_frame); remove it");
   if (!errors.empty())
   {
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);
@@ -78,6 +86,12 @@ void PreFilterNodelet::onInit()
   }
   pipeline_.setParams(params);
   ros_io::writeParams(pnh, params);
+  if (!sensor_frame_.empty())
+  {
+    // Started here so that tf is buffered by the time the first sweep comes.
+    sensor_tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+    sensor_tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*sensor_tf_buffer_);
+  }
   input_topic_ = topicName(pnh, "input", { "sub_input_scan" });
   if (input_mode_ == "multi_echo_scan")
     scan_input_ = std::make_unique<ros_io::MultiEchoScanInput>(scan_options, getNodeHandle(), getName());
@@ -277,8 +291,34 @@ void PreFilterNodelet::onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr
   processAndPublish(header);
 }
 
+bool PreFilterNodelet::placeSensorOrigin(const std_msgs::Header& header)
+{
+  core::Sweep& sweep = pipeline_.sweep();
+  if (sensor_frame_.empty() || sensor_frame_ == header.frame_id)
+    return true;
+  try
+  {
+    const geometry_msgs::TransformStamped sensor =
+        sensor_tf_buffer_->lookupTransform(header.frame_id, sensor_frame_, header.stamp, ros::Duration(kTfWaitSeconds));
+    const geometry_msgs::Vector3& position = sensor.transform.translation;
+    sweep.origin = Eigen::Vector3f(static_cast<float>(position.x), static_cast<float>(position.y),
+                                   static_cast<float>(position.z));
+    sweep.computeRanges();
+    return true;
+  }
+  catch (const tf2::TransformException& error)
+  {
+    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep: no transform from sensor_frame '"
+                                                             << sensor_frame_ << "' to the cloud's frame '"
+                                                             << header.frame_id << "': " << error.what());
+    return false;
+  }
+}
+
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
 {
+  if (!placeSensorOrigin(header))
+    return;
   ros_io::OutputRequest request;
   request.labelled = labelled_pub_.getNumSubscribers() > 0;
   request.cleaned = cleaned_pub_.getNumSubscribers() > 0;

@@ -6,6 +6,8 @@
 #include <message_filters/time_synchronizer.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 #include <sensor_msgs/MultiEchoLaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <topic_tools/shape_shifter.h>
@@ -46,6 +48,9 @@ private:
   void onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr& message);
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
   void processAndPublish(const std_msgs::Header& header);
+  // sensor_frame: puts the scanner's position in the cloud's frame into the sweep's origin
+  // (the vision cones start there). False, with a throttled error, when tf cannot say.
+  bool placeSensorOrigin(const std_msgs::Header& header);
 
   std::string input_mode_;
   std::string input_topic_;  // pair mode
@@ -67,6 +72,11 @@ private:
   std::unique_ptr<ros_io::MultiEchoScanInput> scan_input_;
   ros::Subscriber scan_sub_;
   ros::WallTimer scan_drain_timer_;
+  // Optional: the scanner's frame when the clouds come in another frame; tf supplies it.
+  std::string sensor_frame_;
+  std::unique_ptr<tf2_ros::Buffer> sensor_tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> sensor_tf_listener_;
+
   ros::Subscriber dual_return_sub_;
   ros::Subscriber legacy_sub_;
 
