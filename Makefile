@@ -11,6 +11,8 @@ export ROS_HOME := $(WS)/.ros
 export ROS_HOSTNAME := 127.0.0.1
 export ROS_LOG_DIR := $(WS)/.ros/log
 BUILD_TYPE ?= Release
+# Extra CMake arguments of the build (`make bench` adds -DOHM_BUILD_BENCH=ON).
+CMAKE_EXTRA ?=
 
 APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev libpcl-dev libpcl-conversions-dev \
   libtf2-ros-dev libtf2-eigen-dev python3-rostest python3-dynamic-reconfigure \
@@ -20,7 +22,7 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build test demo clean
+.PHONY: all deps build test demo bench clean
 all: build
 
 # Installs only what is missing, so a prepared machine pays one dpkg-query.
@@ -46,7 +48,7 @@ build: deps
 	  case "$${entry##*/}" in .ws|demo_output) ;; *) ln -sfn "$$entry" $(WS)/src/$(PKG)/ ;; esac; done
 	cd $(WS) && catkin_make all tests -j2 -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
 	  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
-	  -DCATKIN_ENABLE_TESTING=ON > $(WS)/build.log 2>&1 || { tail -n 60 $(WS)/build.log; exit 1; }
+	  -DCATKIN_ENABLE_TESTING=ON $(CMAKE_EXTRA) > $(WS)/build.log 2>&1 || { tail -n 60 $(WS)/build.log; exit 1; }
 	@echo "built $(PKG) in $(WS) (log: $(WS)/build.log)"
 
 # ctest, not `catkin_make run_tests`: the latter exits 0 when tests fail.
@@ -57,6 +59,13 @@ demo: build
 	$(SOURCE_WS) && port=$$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])') && \
 	  export ROS_MASTER_URI=http://127.0.0.1:$$port && \
 	  roslaunch -p $$port --screen $(PKG) demo.launch
+
+# Not part of `make test`: a Release build with the bench binary, then the measurements
+# (table on stdout, bench/results.json). Takes a few minutes (simulation + 8 sweeps x 22 runs).
+bench:
+	$(MAKE) build BUILD_TYPE=Release CMAKE_EXTRA=-DOHM_BUILD_BENCH=ON
+	$(SOURCE_WS) && /usr/bin/python3 bench/run_bench.py --binary $(WS)/devel/lib/$(PKG)/bench_pipeline \
+	  --output $(CURDIR)/bench/results.json
 
 clean:
 	rm -rf $(WS)

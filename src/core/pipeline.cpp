@@ -1,5 +1,6 @@
 #include "ohm_mirror_detector3d/core/pipeline.h"
 
+#include <chrono>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +13,17 @@ namespace core
 {
 namespace
 {
+using Clock = std::chrono::steady_clock;
+
+// Seconds since `start`; moves `start` to now, so consecutive calls time consecutive stages.
+double lap(Clock::time_point& start)
+{
+  const Clock::time_point now = Clock::now();
+  const double seconds = std::chrono::duration<double>(now - start).count();
+  start = now;
+  return seconds;
+}
+
 void throwIfInvalid(const Params& params)
 {
   const std::vector<std::string> errors = params.validate();
@@ -38,20 +50,32 @@ void Pipeline::setParams(const Params& params)
 const PipelineResult& Pipeline::process(const Sweep& sweep)
 {
   PipelineResult& r = result_;
+  r.times = StageTimes();
+  const Clock::time_point begin = Clock::now();
+  Clock::time_point t = begin;
   r.labels.reset(sweep.beamCount());
   r.objects.clear();
   r.range_gated_points = applyRangeGate(sweep, params_, r.labels);
+  r.times.range_gate = lap(t);
   r.outlier_points = outlier_filter_.apply(sweep, params_, Label::unchecked, r.labels);
+  r.times.outlier_filter = lap(t);
   r.error_surface_points = compareEchoes(sweep, params_, r.labels);
+  r.times.echo_comparison = lap(t);
   if (r.error_surface_points >= static_cast<std::size_t>(params_.min_object_points))
   {
     r.outlier_points += outlier_filter_.apply(sweep, params_, Label::errorSurface, r.labels);
+    r.times.outlier_filter += lap(t);
     object_extractor_.extract(sweep, params_, r.labels, r.objects);
+    r.times.object_extraction = lap(t);
     for (ReflectiveObject& object : r.objects)
       type_analyzer_.analyze(sweep, params_, r.labels, object);
+    r.times.type_analysis = lap(t);
   }
   labelByVisionCones(sweep, params_, r.objects, r.labels, r.assignment);
+  r.times.cone_labelling = lap(t);
   collectCleaned(sweep, r.labels, r.objects, r.assignment, r.cleaned);
+  r.times.cleaned_output = lap(t);
+  r.times.total = std::chrono::duration<double>(t - begin).count();
   return r;
 }
 

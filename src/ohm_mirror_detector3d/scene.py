@@ -405,6 +405,18 @@ def mirror_and_glass():
     return s
 
 
+def two_mirrors_and_glass():
+    s = Scene('two_mirrors_and_glass', 'mirror_and_glass with a second 60x40 mirror leaning on the west wall '
+              '(about 2.6 m from the scanner): two mirrors and a window pane, a yard behind the window.')
+    base = mirror_and_glass()
+    s.extend(base.rectangles)
+    s.scanner_pose = base.scanner_pose
+    lean = 20.0
+    s.add(leaning_panel((0.40 * math.sin(math.radians(lean)), 2.3, 0.0), 0.0, 0.60, 0.40,
+                        MIRROR_GLASS, lean, 'mirror_west'))
+    return s
+
+
 def mirror_open_space():
     s = Scene('mirror_open_space', 'A 60x40 mirror leaning 15 deg back on a short wall in open space: its '
               'reflections go to the sky, so its surface echoes are single and there are no phantoms.')
@@ -420,7 +432,8 @@ def mirror_open_space():
 
 _REGISTRY: Dict[str, Callable[[], Scene]] = {
     f.__name__: f for f in (experiment1, experiment2, experiment3, experiment4, empty_room, glass_wall,
-                            facing_mirrors, floor_mirror, mirror_and_glass, mirror_open_space)
+                            facing_mirrors, floor_mirror, mirror_and_glass, mirror_open_space,
+                            two_mirrors_and_glass)
 }
 
 

@@ -86,6 +86,19 @@ TEST(Pipeline, ReusesItsBuffersForSweepsOfDifferentSizes)
   EXPECT_EQ(result.cleaned.size(), 2u);
 }
 
+TEST(Pipeline, ReportsNonNegativeStageTimesThatAddUpToTheTotal)
+{
+  core::Pipeline pipeline(permissiveOutliers());
+  const core::PipelineResult& result =
+      pipeline.process(test::makeSweep({ { ahead(2.0f), ahead(3.5f) }, { ahead(4.0f), ahead(4.0f) } }));
+  const core::StageTimes& t = result.times;
+  for (double stage : { t.range_gate, t.outlier_filter, t.echo_comparison, t.object_extraction, t.type_analysis,
+                        t.cone_labelling, t.cleaned_output })
+    EXPECT_GE(stage, 0.0);
+  EXPECT_GT(t.total, 0.0);
+  EXPECT_NEAR(t.sumOfStages(), t.total, 1e-9 + 1e-6 * t.total);
+}
+
 TEST(Pipeline, ProcessesAnEmptySweep)
 {
   core::Pipeline pipeline;

@@ -7,7 +7,8 @@ from ohm_mirror_detector3d.labels import Label
 from ohm_mirror_detector3d.scanner import RotatingHokuyo
 
 REQUIRED = ['experiment1', 'experiment2', 'experiment3', 'experiment4', 'empty_room', 'glass_wall',
-            'facing_mirrors', 'floor_mirror', 'mirror_and_glass', 'mirror_open_space']
+            'facing_mirrors', 'floor_mirror', 'mirror_and_glass', 'mirror_open_space',
+            'two_mirrors_and_glass']
 
 
 def test_registry_lists_the_required_scenes():

@@ -18,6 +18,26 @@ namespace ohm_mirror_detector3d
 {
 namespace core
 {
+// Wall time of each stage of the last Pipeline::process (steady_clock, seconds). Stages that
+// did not run (no object candidates) stay 0. For profiling; costs a few clock reads per sweep.
+struct StageTimes
+{
+  double range_gate = 0.0;
+  double outlier_filter = 0.0;      // both passes
+  double echo_comparison = 0.0;
+  double object_extraction = 0.0;
+  double type_analysis = 0.0;
+  double cone_labelling = 0.0;
+  double cleaned_output = 0.0;
+  double total = 0.0;               // the whole process call
+
+  double sumOfStages() const
+  {
+    return range_gate + outlier_filter + echo_comparison + object_extraction + type_analysis + cone_labelling +
+           cleaned_output;
+  }
+};
+
 struct PipelineResult
 {
   SweepLabels labels;
@@ -27,6 +47,7 @@ struct PipelineResult
   std::size_t range_gated_points = 0;      // labelled nanPoint by the range gate
   std::size_t outlier_points = 0;          // labelled nanPoint by both outlier filter passes
   std::size_t error_surface_points = 0;    // n_affected of the echo comparison
+  StageTimes times;                        // per-stage wall time of this sweep
 };
 
 class Pipeline

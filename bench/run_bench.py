@@ -1,0 +1,154 @@
+#!/usr/bin/python3
+"""`make bench`: times the core pipeline (single-threaded, Release) on simulated sweeps of growing size.
+
+Sizes: RotatingHokuyo 1080 x 100 / 400 / 1000 and DualReturnLidar 128 x 2048 (two echoes per beam), each
+for `empty_room` (no reflective object) and `two_mirrors_and_glass`; seed 0, range noise 0.01 m. Every
+size uses the parameters of launch/rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours).
+The sweeps go to a temporary directory as binary files (int64 rows, cols; echo 1 and echo 2 as N x 4
+float32 x y z intensity) and bench_pipeline times each one in a process of its own (so that peak RSS is
+per sweep). Prints a Markdown table and writes the JSON (default bench/results.json).
+"""
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, '..', 'src'))
+
+from ohm_mirror_detector3d.scanner import DualReturnLidar, RotatingHokuyo  # noqa: E402
+from ohm_mirror_detector3d.simulate import SweepSimulator  # noqa: E402
+
+SCENES = ('empty_room', 'two_mirrors_and_glass')
+STAGES = ('range_gate', 'outlier_filter', 'echo_comparison', 'object_extraction', 'type_analysis',
+          'cone_labelling', 'cleaned_output')
+SHORT = {'range_gate': 'gate', 'outlier_filter': 'outlier', 'echo_comparison': 'echo', 'object_extraction': 'extract',
+         'type_analysis': 'type', 'cone_labelling': 'cones', 'cleaned_output': 'cleaned'}
+NOISE = 0.01
+SEED = 0
+
+
+def scanners():
+    return [('1080x100', RotatingHokuyo(scans=100, range_noise=NOISE)),
+            ('1080x400', RotatingHokuyo(scans=400, range_noise=NOISE)),
+            ('1080x1000', RotatingHokuyo(scans=1000, range_noise=NOISE)),
+            ('128x2048', DualReturnLidar(rings=128, azimuth_steps=2048, range_noise=NOISE))]
+
+
+def write_sweep(path, sweep):
+    with open(path, 'wb') as f:
+        np.array([sweep.rows, sweep.cols], '<i8').tofile(f)
+        for echo in (sweep.echo1, sweep.echo2):
+            a = np.stack([echo['x'], echo['y'], echo['z'], echo['intensity']], axis=1).astype('<f4')
+            a.tofile(f)
+
+
+def machine():
+    model = platform.processor() or 'unknown'
+    try:
+        with open('/proc/cpuinfo') as f:
+            for line in f:
+                if line.startswith('model name'):
+                    model = line.split(':', 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return {'cpu_model': model, 'nproc': os.cpu_count(), 'usable_cores': len(os.sched_getaffinity(0)),
+            'kernel': platform.release(), 'python': platform.python_version()}
+
+
+def table(results):
+    head = ['size', 'scene', 'beams', 'objects', 'total median ms', 'total p95 ms', 'Mbeams/s'] + \
+           ['%s ms' % SHORT[s] for s in STAGES] + ['peak RSS MB']
+    lines = ['| ' + ' | '.join(head) + ' |', '|' + '---|' * len(head)]
+    for r in results:
+        st = r['stages']
+        row = [r['size'], r['scene'], str(r['beams']), str(r['objects']),
+               '%.1f' % (1e3 * st['total']['median_s']), '%.1f' % (1e3 * st['total']['p95_s']),
+               '%.2f' % (r['beams_per_s'] / 1e6)] + ['%.1f' % (1e3 * st[s]['median_s']) for s in STAGES] + \
+              ['%.0f' % r['peak_rss_mb']]
+        lines.append('| ' + ' | '.join(row) + ' |')
+    return '\n'.join(lines)
+
+
+def growth(results):
+    """Time per beam across the Hokuyo sizes, per scene, and the fitted exponent of t ~ N^k."""
+    out = {}
+    for scene in SCENES:
+        rs = [r for r in results if r['scene'] == scene and r['size'].startswith('1080x')]
+        n = np.array([r['beams'] for r in rs], float)
+        t = np.array([r['stages']['total']['median_s'] for r in rs])
+        k = float(np.polyfit(np.log(n), np.log(t), 1)[0]) if len(rs) >= 2 else float('nan')
+        out[scene] = {'beams': n.astype(int).tolist(), 'us_per_beam': (1e6 * t / n).round(4).tolist(),
+                      'exponent': round(k, 3)}
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--binary', required=True, help='bench_pipeline executable')
+    ap.add_argument('--output', default=os.path.join(HERE, 'results.json'))
+    ap.add_argument('--repeats', type=int, default=20)
+    ap.add_argument('--warmup', type=int, default=2)
+    ap.add_argument('--budget', type=float, default=30.0,
+                    help='seconds of measured runs per sweep after which fewer repeats (>= 5) suffice')
+    ap.add_argument('--sizes', nargs='*', help='subset of sizes, e.g. 1080x100')
+    args = ap.parse_args()
+
+    results = []
+    with tempfile.TemporaryDirectory(prefix='ohm_bench_') as tmp:
+        for size, scanner in scanners():
+            if args.sizes and size not in args.sizes:
+                continue
+            for scene in SCENES:
+                started = time.perf_counter()
+                sweep = SweepSimulator(scene, scanner).sweep(seed=SEED, noise=NOISE)
+                path = os.path.join(tmp, '%s_%s.bin' % (size, scene))
+                write_sweep(path, sweep)
+                del sweep
+                simulated = time.perf_counter() - started
+                out = subprocess.run([args.binary, '--repeats', str(args.repeats), '--warmup', str(args.warmup),
+                                      '--budget', str(args.budget), path],
+                                     check=True, stdout=subprocess.PIPE, universal_newlines=True).stdout
+                r = json.loads(out.strip().splitlines()[-1])
+                r.update(size=size, scene=scene, scanner=scanner.name, simulation_s=round(simulated, 2))
+                del r['file']
+                os.remove(path)
+                results.append(r)
+                print('%s %s: %d runs, median %.1f ms (simulated in %.1f s)'
+                      % (size, scene, r['repeats'], 1e3 * r['stages']['total']['median_s'], simulated),
+                      file=sys.stderr, flush=True)
+
+    report = {
+        'machine': machine(),
+        'settings': {'threads': 1, 'build_type': 'Release', 'warmup': args.warmup, 'repeats': args.repeats,
+                     'budget_s': args.budget, 'seed': SEED, 'range_noise_m': NOISE,
+                     'params': 'launch/rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours, '
+                               'd_min 0.1, d_max 30) for every size',
+                     'timed': 'core::Pipeline::process only (no ROS, no conversion, no file I/O)'},
+        'results': results,
+        'growth': growth(results),
+    }
+    with open(args.output, 'w') as f:
+        json.dump(report, f, indent=1)
+
+    m = report['machine']
+    print('Machine: %s, %d cores (nproc), single-threaded run. Parameters: rotating_hokuyo_params.yaml '
+          '(outlier radius 0.2 m, 5 neighbours) for all sizes.\n' % (m['cpu_model'], m['nproc']))
+    print(table(results))
+    print('\nGrowth (median time per beam, RotatingHokuyo 1080 x R; exponent k of t ~ N^k):\n')
+    for scene, g in report['growth'].items():
+        print('- %s: %s us/beam at %s beams, k = %.2f'
+              % (scene, ' / '.join('%.3f' % v for v in g['us_per_beam']), ' / '.join(map(str, g['beams'])),
+                 g['exponent']))
+    print('\nJSON: %s' % args.output)
+
+
+if __name__ == '__main__':
+    main()
