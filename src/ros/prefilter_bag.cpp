@@ -191,6 +191,13 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
   options.input.azimuth_resolution_deg = ros_io::readAzimuthResolution(source, errors);
   if (options.input_mode == "multi_echo_scan")
     options.input.scan_options = ros_io::readMultiEchoScanOptions(source, errors);
+  // The nodelet takes the scanner's position from tf when sensor_frame is set; this tool
+  // does not (yet), and a sweep with the wrong origin gets wrong vision cones: refuse it
+  // rather than give results that differ from the nodelet's.
+  std::string sensor_frame;
+  if (source.has("sensor_frame") && (!source.get("sensor_frame", sensor_frame) || !sensor_frame.empty()))
+    errors.push_back("parameter " + source.describe("sensor_frame") +
+                     " is not supported by prefilter_bag: the clouds must be in the scanner's frame");
   if (!errors.empty())
     throw UsageError("refusing to start, bad parameters" + (file ? " in " + params_path : std::string()) + ":" +
                      joinLines(errors));

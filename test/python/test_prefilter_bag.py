@@ -192,6 +192,7 @@ def test_unreadable_and_missing_bags(binary, tmp_path):
     ('d_thres: "0.05"\n', 'd_thres (in '),
     ('input_mode: sideways\n', "input_mode 'sideways' is unknown"),
     ('[1, 2]\n', 'must be a map'),
+    ('sensor_frame: laser\n', 'sensor_frame (in '),
 ])
 def test_bad_parameters(binary, bags, tmp_path, yaml_text, expected):
     params, out_bag = tmp_path / 'params.yaml', tmp_path / 'out.bag'
