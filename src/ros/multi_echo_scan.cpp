@@ -275,21 +275,29 @@ MultiEchoScanInput::Projection MultiEchoScanInput::project(const sensor_msgs::Mu
   const ros::Time start = scan.header.stamp;
   const ros::Time end = start + ros::Duration(static_cast<double>(scan.time_increment) * static_cast<double>(n - 1));
 
-  if (!tf_buffer_->canTransform(target, source, start, &reason) ||
-      !tf_buffer_->canTransform(target, source, end, &reason))
+  const auto covered = [&]() {
+    return tf_buffer_->canTransform(target, source, start, &reason) &&
+           tf_buffer_->canTransform(target, source, end, &reason);
+  };
+  if (!covered())
   {
     // Will it still come? Only if the newest transform is older than the end of the scan.
     try
     {
       const ros::Time latest = tf_buffer_->lookupTransform(target, source, ros::Time(0)).header.stamp;
-      if (!latest.isZero() && latest >= end)
-        return Projection::never;
+      if (latest.isZero() || latest < end)
+        return Projection::wait;
     }
     catch (const tf2::TransformException& e)
     {
       reason = e.what();
+      return Projection::wait;
     }
-    return Projection::wait;
+    // The listener fills the buffer on its own thread: the transforms for the end of the scan may have
+    // arrived between the check above and the lookup of the newest one. Only a second miss, with the
+    // newest transform already past the scan, means they never will (the scan fell into a gap).
+    if (!covered())
+      return Projection::never;
   }
 
   // Beam directions in the scan frame, recomputed only when the geometry changes.
