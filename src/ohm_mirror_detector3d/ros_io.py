@@ -18,7 +18,7 @@ from std_msgs.msg import Header
 from ohm_mirror_detector3d.msg import EchoPair, ReflectiveObject, ReflectiveObjectArray
 
 from .labels import Label
-from .simulate import GROUND_TRUTH_DTYPE, physical_return_mask
+from .simulate import GROUND_TRUTH_DTYPE, ground_truth_objects, physical_return_mask  # noqa: F401 (re-exported)
 
 _TO_ROS = {np.dtype('int8'): PointField.INT8, np.dtype('uint8'): PointField.UINT8,
            np.dtype('int16'): PointField.INT16, np.dtype('uint16'): PointField.UINT16,
@@ -141,24 +141,6 @@ def objects_from_msg(msg):
 
 # ---------------------------------------------------------------------------------------------
 # Sweeps
-
-def ground_truth_objects(sweep):
-    """The sweep's objects with the ground-truth point counts filled in."""
-    gt = sweep.ground_truth
-    real = physical_return_mask(gt)
-    intensity = np.r_[sweep.echo1['intensity'], sweep.echo2['intensity']]
-    out = []
-    for o in sweep.objects:
-        mine = (gt['object_id'] == o['id']) & real
-        surface = mine & np.isin(gt['label'], [Label.REFLECTIVE_SURFACE, Label.TRANSPARENT_SURFACE])
-        behind = mine & np.isin(gt['label'], [Label.BEHIND_REFLECTIVE, Label.BEHIND_TRANSPARENT])
-        d = dict(o)
-        d['surface_points'] = int(surface.sum())
-        d['behind_points'] = int(behind.sum())
-        d['mean_surface_intensity'] = float(intensity[surface].mean()) if surface.any() else float('nan')
-        out.append(d)
-    return out
-
 
 def sweep_to_messages(sweep, stamp, frame_id=None):
     """Messages of one sweep, keyed by topic name: echo_pair, echo1, echo2, ground_truth, ground_truth_objects.

@@ -196,6 +196,25 @@ def physical_return_mask(gt):
     return np.r_[np.ones(n, bool), distinct]
 
 
+def ground_truth_objects(sweep):
+    """The sweep's objects with the ground-truth point counts filled in (surface_points,
+    behind_points, mean_surface_intensity), as the evaluator compares them (also ros_io's)."""
+    gt = sweep.ground_truth
+    real = physical_return_mask(gt)
+    intensity = np.r_[sweep.echo1['intensity'], sweep.echo2['intensity']]
+    out = []
+    for o in sweep.objects:
+        mine = (gt['object_id'] == o['id']) & real
+        surface = mine & np.isin(gt['label'], [Label.REFLECTIVE_SURFACE, Label.TRANSPARENT_SURFACE])
+        behind = mine & np.isin(gt['label'], [Label.BEHIND_REFLECTIVE, Label.BEHIND_TRANSPARENT])
+        d = dict(o)
+        d['surface_points'] = int(surface.sum())
+        d['behind_points'] = int(behind.sum())
+        d['mean_surface_intensity'] = float(intensity[surface].mean()) if surface.any() else float('nan')
+        out.append(d)
+    return out
+
+
 def sweep_counts(sweep):
     """Counts per label and per object (physical returns), for reports and tests."""
     gt = sweep.ground_truth

@@ -1,0 +1,317 @@
+"""The pre-filter from Python, without ROS: the C++ core pipeline on numpy arrays.
+
+    from ohm_mirror_detector3d.core import Params, Pipeline
+    pipeline = Pipeline(Params(outlierFilter_minNeighbors=5, outlierFilter_searchRadius=0.2))
+    result = pipeline.filter(echo1, echo2)          # (N, 3) float32 each, index-aligned beams
+    result.labels                                   # (2, N) uint8: labels of echo 1 and echo 2
+    result.cleaned, result.objects                  # points for mapping, mirrors and glass found
+
+`Params` has the names and defaults of the ROS parameters (the original launch file's names;
+the paper's names such as `d_min` or `r` are accepted by `Params.from_dict` and as keyword
+arguments of `Pipeline`) and is validated by the same C++ code as the nodelet's parameters.
+
+A `Pipeline` runs exactly the nodelet's code (core::Pipeline): the same input gives the same
+labels, bit for bit. It copies the input once into the core's sweep (which it reuses from call
+to call) and releases the GIL while the core runs. Input rules, checked before anything runs
+(TypeError / ValueError with the reason, never a crash):
+
+* points: float32 (native byte order), shape (N, 3), or (rows, cols, 3) for an organised pair;
+  a structured array with x y z (and intensity) fields is converted first (a copy);
+* a missing return is non-finite in all of x y z (NaN or Inf, REP-117); a point with some
+  coordinates finite and others not is refused;
+* intensities: optional, any real dtype, one per point (NaN allowed);
+* dual-return data: `returns` (1/2 or 0/1) and `rings`, integer arrays, one per point.
+
+Outputs are numpy structured arrays with the fields of the nodelet's `labelled` and `cleaned`
+PointCloud2s (x y z intensity label echo beam, the same 24-byte layout) and objects as dicts
+with the fields of ReflectiveObject.msg (plus type_name, centre and icp_correction).
+"""
+import dataclasses
+import re
+from dataclasses import dataclass
+from typing import Any, Dict, List, Optional
+
+import numpy as np
+
+from . import _core
+from .labels import Label
+
+# One point of `labelled` and `cleaned`, as the nodelet lays out its PointCloud2s.
+OUTPUT_DTYPE = np.dtype({'names': ['x', 'y', 'z', 'intensity', 'label', 'echo', 'beam'],
+                         'formats': ['<f4', '<f4', '<f4', '<f4', 'u1', 'u1', '<u4'],
+                         'offsets': [0, 4, 8, 12, 16, 17, 20], 'itemsize': 24})
+
+OBJECT_TYPE_NAMES = {0: 'unknown', 1: 'mirror', 2: 'glass'}
+MODES = ('pair', 'dual_return')
+
+_CORE_DEFAULTS = _core.Params()
+
+# Every pipeline parameter: ROS name (original launch file, cfg/PreFilter.cfg), paper name or
+# None, the field of core::Params, and its type (as src/ros/parameters.cpp reads them).
+PARAMETERS = (
+    ('min_measure_distance', 'd_min', 'min_range', float),
+    ('max_measure_distance', 'd_max', 'max_range', float),
+    ('outlierFilter_searchRadius', 'r', 'outlier_radius', float),
+    ('outlierFilter_minNeighbors', 'n_inlier', 'outlier_min_neighbors', int),
+    ('substract_threshold_distance', 'd_thres', 'echo_threshold', float),
+    ('planeDetection_threshold_distance', 'd_thres_plane', 'plane_threshold', float),
+    ('planeDetection_minAmountPoints', 'n_object', 'min_object_points', int),
+    ('visionCone_threshold', 'd_thres_visionCone', 'vision_cone_margin', float),
+    ('max_Dist_ICP', 'icp_max_distance', 'icp_max_distance', float),
+    ('fitness_Fct_ICP', 'icp_fitness_threshold', 'icp_fitness_threshold', float),
+    ('icp_min_points', None, 'icp_min_points', int),
+    ('icp_min_inlier_fraction', None, 'icp_min_inlier_fraction', float),
+)
+# Input mode dual_return only.
+AZIMUTH_RESOLUTION = 'azimuth_resolution_deg'
+
+# Keys of the ROS parameter files that are not pipeline parameters but harmless here.
+ROS_ONLY_KEYS = frozenset({'input_mode', 'sensor_frame', 'sub_input_scan', 'pub_labelled', 'pub_cleaned',
+                           'pub_objects', 'pub_markers', 'queue_size'})
+
+_DECIMAL = re.compile(r'^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$')
+
+
+@dataclass
+class Params:
+    """Pre-filter parameters under their ROS names, with the nodelet's defaults."""
+    min_measure_distance: float = _CORE_DEFAULTS.min_range
+    max_measure_distance: float = _CORE_DEFAULTS.max_range
+    outlierFilter_searchRadius: float = _CORE_DEFAULTS.outlier_radius
+    outlierFilter_minNeighbors: int = _CORE_DEFAULTS.outlier_min_neighbors
+    substract_threshold_distance: float = _CORE_DEFAULTS.echo_threshold
+    planeDetection_threshold_distance: float = _CORE_DEFAULTS.plane_threshold
+    planeDetection_minAmountPoints: int = _CORE_DEFAULTS.min_object_points
+    visionCone_threshold: float = _CORE_DEFAULTS.vision_cone_margin
+    max_Dist_ICP: float = _CORE_DEFAULTS.icp_max_distance
+    fitness_Fct_ICP: float = _CORE_DEFAULTS.icp_fitness_threshold
+    icp_min_points: int = _CORE_DEFAULTS.icp_min_points
+    icp_min_inlier_fraction: float = _CORE_DEFAULTS.icp_min_inlier_fraction
+    azimuth_resolution_deg: float = _core.DEFAULT_AZIMUTH_RESOLUTION_DEG
+
+    def type_errors(self) -> List[str]:
+        """One message per value of the wrong type (an int is a number; a number is not an int)."""
+        errors = []
+        kinds = [(ros, kind) for ros, _, _, kind in PARAMETERS] + [(AZIMUTH_RESOLUTION, float)]
+        for name, kind in kinds:
+            value = getattr(self, name)
+            ok = (isinstance(value, (int, np.integer)) if kind is int else
+                  isinstance(value, (int, float, np.integer, np.floating))) and not isinstance(value, bool)
+            if not ok:
+                errors.append('parameter %s = %r has the wrong type: expected %s'
+                              % (name, value, 'an integer' if kind is int else 'a number'))
+        return errors
+
+    def to_core(self):
+        """The core's Params (C++ names). Raises TypeError for values of the wrong type."""
+        errors = self.type_errors()
+        if errors:
+            raise TypeError('invalid pre-filter parameters:\n  ' + '\n  '.join(errors))
+        out = _core.Params()
+        for ros, _, core_name, kind in PARAMETERS:
+            setattr(out, core_name, kind(getattr(self, ros)))
+        return out
+
+    def validate(self) -> List[str]:
+        """One message per bad value, the nodelet's messages (Params::validate); empty when all are fine."""
+        errors = self.type_errors()
+        if errors:
+            return errors
+        errors = list(self.to_core().validate())
+        problem = _core.validate_azimuth_resolution(float(self.azimuth_resolution_deg))
+        return errors + ([problem] if problem else [])
+
+    def check(self):
+        """Raises TypeError (wrong types) or ValueError (out of range) naming every bad value."""
+        self.to_core()
+        errors = self.validate()
+        if errors:
+            raise ValueError('invalid pre-filter parameters:\n  ' + '\n  '.join(errors))
+        return self
+
+    @classmethod
+    def from_dict(cls, values: Dict[str, Any], base: Optional['Params'] = None, source: str = 'parameters',
+                  ignore=ROS_ONLY_KEYS) -> 'Params':
+        """Params from ROS names or paper names (as the nodelet reads them); keys in `ignore` are
+        skipped. Raises ValueError for unknown names and for a ROS name and its paper name that
+        disagree, TypeError for values of the wrong type."""
+        params = dataclasses.replace(base) if base is not None else cls()
+        values = dict(values)
+        errors, type_errors = [], []
+        for ros, paper, _, kind in PARAMETERS + ((AZIMUTH_RESOLUTION, None, None, float),):
+            given = [(n, values.pop(n)) for n in (ros, paper) if n is not None and n in values]
+            converted = []
+            for name, value in given:
+                # PyYAML reads plain `5e-3` as a string; the nodelet's YAML reader takes it as a number.
+                if kind is float and isinstance(value, str) and _DECIMAL.match(value.strip()):
+                    value = float(value)
+                is_int = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+                is_num = is_int or isinstance(value, (float, np.floating))
+                if not (is_int if kind is int else is_num):
+                    type_errors.append('parameter %s = %r (in %s) has the wrong type: expected %s'
+                                       % (name, value, source, 'an integer' if kind is int else 'a number'))
+                    continue
+                converted.append((name, kind(value)))
+            if len(converted) == 2 and converted[0][1] != converted[1][1]:
+                errors.append('parameters %s = %s and %s = %s (in %s) name the same value and disagree; give only one'
+                              % (converted[0] + converted[1] + (source,)))
+            elif converted:
+                setattr(params, ros, converted[0][1])
+        unknown = sorted(k for k in values if k not in ignore)
+        if unknown:
+            errors.append('unknown parameter%s in %s: %s (known: %s)' % (
+                's' if len(unknown) > 1 else '', source, ', '.join(unknown),
+                ', '.join([p[0] for p in PARAMETERS] + [AZIMUTH_RESOLUTION])))
+        if type_errors:
+            raise TypeError('invalid pre-filter parameters:\n  ' + '\n  '.join(type_errors + errors))
+        if errors:
+            raise ValueError('invalid pre-filter parameters:\n  ' + '\n  '.join(errors))
+        return params
+
+    @classmethod
+    def from_yaml(cls, path: str) -> 'Params':
+        """Params from a ROS parameter file such as launch/rotating_hokuyo_params.yaml."""
+        return cls.from_dict(read_yaml(path), source=str(path))
+
+
+def read_yaml(path) -> Dict[str, Any]:
+    """The map of a YAML parameter file ({} when empty). ValueError when it is not a map."""
+    import yaml
+    with open(str(path)) as f:
+        try:
+            data = yaml.safe_load(f)
+        except yaml.YAMLError as e:
+            raise ValueError('parameter file %s is not valid YAML: %s' % (path, e))
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise ValueError('parameter file %s must be a map of parameter names to values' % path)
+    return data
+
+
+@dataclass
+class FilterResult:
+    """What the pipeline made of one sweep.
+
+    labelled: every input point (pair: echo 1 then echo 2, each in beam order; dual_return: the
+      input's order), OUTPUT_DTYPE, positions as measured; a dual-return point in no grid cell is
+      nanPoint with echo 0 and beam 0xFFFFFFFF.
+    cleaned: the points for mapping (OUTPUT_DTYPE), mirror phantoms back-projected.
+    objects: one dict per mirror/glass/unknown rectangle (id, type, type_name, corners (4, 3),
+      width, height, plane (a, b, c, d), centre, surface_points, behind_points,
+      mean_surface_intensity, mirrored_points, matched_points, inlier_fraction, icp_fitness,
+      icp_converged, icp_correction (4, 4)).
+    stats: point counts of the stages and the core's wall time.
+    """
+    mode: str
+    labelled: np.ndarray
+    cleaned: np.ndarray
+    objects: List[dict]
+    stats: dict
+    shape: tuple
+
+    @property
+    def labels(self) -> np.ndarray:
+        """uint8 labels (a view of labelled): (2, N) or (2, rows, cols) for a pair, (N,) for dual_return."""
+        return self.labelled['label'].reshape(self.shape)
+
+    @property
+    def cleaned_points(self) -> np.ndarray:
+        """(M, 3) float32 positions of the cleaned points."""
+        return np.stack([self.cleaned['x'], self.cleaned['y'], self.cleaned['z']], axis=-1)
+
+    def label_counts(self) -> Dict[str, int]:
+        """Points per label name (errorSurface, ...), labels that occur only."""
+        counts = np.bincount(self.labelled['label'], minlength=10)
+        return {Label(k).design_name: int(c) for k, c in enumerate(counts) if c}
+
+
+def _points_of(array, name):
+    """(points, intensities or None): structured arrays with x y z fields are split (a copy)."""
+    if isinstance(array, np.ndarray) and array.dtype.names is not None:
+        missing = [f for f in 'xyz' if f not in array.dtype.names]
+        if missing:
+            raise TypeError('%s is a structured array without field%s %s' % (
+                name, 's' if len(missing) > 1 else '', ', '.join(missing)))
+        points = np.stack([array['x'], array['y'], array['z']], axis=-1)
+        if points.dtype != np.float32:
+            raise TypeError('%s has x y z of dtype %s; expected float32' % (name, points.dtype))
+        intensity = array['intensity'] if 'intensity' in array.dtype.names else None
+        return points, intensity
+    return array, None
+
+
+class Pipeline:
+    """The pre-filter (core::Pipeline) with its parameters; reuse it from sweep to sweep.
+
+    Pipeline(params=None, **overrides): overrides are ROS or paper parameter names. Raises
+    TypeError / ValueError naming every bad value, as the nodelet refuses them.
+    """
+
+    def __init__(self, params: Optional[Params] = None, **overrides):
+        self._params = self._resolve(params, overrides)
+        self._pipeline = _core.Pipeline(self._params.to_core())
+
+    @staticmethod
+    def _resolve(params, overrides):
+        if params is not None and not isinstance(params, Params):
+            raise TypeError('params must be an ohm_mirror_detector3d.core.Params, not %s' % type(params).__name__)
+        params = Params.from_dict(overrides, base=params, source='keyword arguments', ignore=())
+        return params.check()
+
+    @property
+    def params(self) -> Params:
+        return dataclasses.replace(self._params)
+
+    def set_params(self, params: Optional[Params] = None, **overrides):
+        """New parameters; on failure (TypeError / ValueError) the previous ones stay in force."""
+        resolved = self._resolve(params if params is not None else self._params, overrides)
+        self._pipeline.set_params(resolved.to_core())
+        self._params = resolved
+
+    def filter(self, echo1, echo2, intensity1=None, intensity2=None) -> FilterResult:
+        """Two index-aligned echoes (input modes pair / two_topics): point i of echo1 and point i of
+        echo2 are the same beam. Intensities default to the `intensity` field of structured input."""
+        echo1, own1 = _points_of(echo1, 'echo1')
+        echo2, own2 = _points_of(echo2, 'echo2')
+        intensity1 = own1 if intensity1 is None else intensity1
+        intensity2 = own2 if intensity2 is None else intensity2
+        labelled, cleaned, objects, stats = self._pipeline.filter_pair(echo1, echo2, intensity1, intensity2)
+        grid = echo1.shape[:-1] if echo1.ndim == 3 else (echo1.shape[0],)
+        return FilterResult('pair', labelled, cleaned, objects, stats, (2,) + tuple(grid))
+
+    def filter_dual_return(self, points, returns=None, rings=None, intensities=None) -> FilterResult:
+        """One cloud holding both returns of every beam (input mode dual_return): `returns` (1/2 or
+        0/1) and `rings` per point; a structured `points` array may carry them as fields
+        (return / return_type / echo, ring / channel). Echoes are paired per ring and azimuth bin
+        of azimuth_resolution_deg; `labelled` keeps the input's order."""
+        fields = points.dtype.names if isinstance(points, np.ndarray) and points.dtype.names else ()
+        if returns is None:
+            returns = next((points[f] for f in ('return', 'return_type', 'echo') if f in fields), None)
+        if rings is None:
+            rings = next((points[f] for f in ('ring', 'channel') if f in fields), None)
+        if returns is None or rings is None:
+            raise TypeError('dual_return needs a return index and a ring per point: pass returns= and rings= '
+                            '(or a structured array with fields return/return_type/echo and ring/channel)')
+        points, own = _points_of(points, 'points')
+        intensities = own if intensities is None else intensities
+        labelled, cleaned, objects, stats = self._pipeline.filter_dual_return(
+            points, returns, rings, intensities, float(self._params.azimuth_resolution_deg))
+        return FilterResult('dual_return', labelled, cleaned, objects, stats, (len(labelled),))
+
+
+def filter_pair(echo1, echo2, intensity1=None, intensity2=None, params=None, **overrides) -> FilterResult:
+    """One-shot Pipeline(params, **overrides).filter(...)."""
+    return Pipeline(params, **overrides).filter(echo1, echo2, intensity1, intensity2)
+
+
+def evaluate_sweep(sweep, pipeline: Optional[Pipeline] = None, **metric_kwargs):
+    """Filters a simulated sweep (simulate.Sweep) with the bindings and scores it against its ground
+    truth with the evaluator's metrics.evaluate_sweep, as the rostests score the nodelet, but with
+    no master. Returns (the evaluator's result, the FilterResult)."""
+    from . import metrics, simulate
+    pipeline = pipeline if pipeline is not None else Pipeline()
+    result = pipeline.filter(sweep.echo1, sweep.echo2)
+    score = metrics.evaluate_sweep(sweep.ground_truth, result.labelled, result.cleaned, result.objects,
+                                   simulate.ground_truth_objects(sweep), **metric_kwargs)
+    return score, result

@@ -1,0 +1,448 @@
+// ohm_mirror_detector3d._core: the ROS-free pipeline on numpy arrays (pybind11).
+//
+// The pure-Python wrapper ohm_mirror_detector3d/core.py is the public face (parameter
+// dataclass, result object); this module does the work that must not cost Python time: checks
+// the arrays, fills the pipeline's Sweep straight from the numpy buffers (the only copy the
+// core needs, since it owns its Sweep), runs the pipeline with the GIL released and writes the
+// outputs in the byte layout of the nodelet's `labelled` and `cleaned` PointCloud2s.
+//
+// Only pybind11 2.4 API (Ubuntu 20.04 / ROS Noetic).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/dual_return.h"
+#include "ohm_mirror_detector3d/core/labels.h"
+#include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/pipeline.h"
+
+namespace py = pybind11;
+using namespace ohm_mirror_detector3d;
+
+namespace
+{
+// One point of `labelled` / `cleaned`, laid out as the nodelet's PointCloud2 (conversions.cpp:
+// x y z intensity at 0..15, label 16, echo 17, two padding bytes, beam 20; 24 bytes), so that
+// an array's bytes equal the message's data.
+struct OutputPointRecord
+{
+  float x;
+  float y;
+  float z;
+  float intensity;
+  std::uint8_t label;
+  std::uint8_t echo;
+  std::uint32_t beam;
+};
+static_assert(sizeof(OutputPointRecord) == 24, "the nodelet's point_step");
+static_assert(offsetof(OutputPointRecord, beam) == 20, "the nodelet's beam offset");
+
+constexpr std::uint32_t kNoBeam = 0xFFFFFFFFu;  // `beam` of a dual-return point in no grid cell
+
+py::array_t<OutputPointRecord> newOutputArray(std::size_t count)
+{
+  py::array_t<OutputPointRecord> array(static_cast<py::ssize_t>(count));
+  // Padding bytes too: the bytes must be reproducible (the nodelet zeroes them).
+  if (count > 0)
+    std::memset(array.mutable_data(), 0, count * sizeof(OutputPointRecord));
+  return array;
+}
+
+void writeRecord(OutputPointRecord& out, const Eigen::Vector3f& p, float intensity, core::Label label,
+                 std::uint8_t echo, std::uint32_t beam)
+{
+  out.x = p.x();
+  out.y = p.y();
+  out.z = p.z();
+  out.intensity = intensity;
+  out.label = static_cast<std::uint8_t>(label);
+  out.echo = echo;
+  out.beam = beam;
+}
+
+std::string describeShape(const py::array& a)
+{
+  std::ostringstream s;
+  s << "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k)
+    s << (k ? ", " : "") << a.shape(k);
+  s << (a.ndim() == 1 ? ",)" : ")");
+  return s.str();
+}
+
+std::string dtypeName(const py::array& a)
+{
+  return py::str(a.dtype()).cast<std::string>();
+}
+
+// A points array: float32, (N, 3) or, when `grid_allowed`, (rows, cols, 3). Returns the
+// array viewed as (N, 3) (no copy) and sets rows/cols ((1, N) for a flat array).
+py::array checkPoints(const py::object& object, const char* name, bool grid_allowed, std::size_t& rows,
+                      std::size_t& cols)
+{
+  if (!py::isinstance<py::array>(object))
+    throw py::type_error(std::string(name) + " must be a numpy array of float32 x y z, not " +
+                         std::string(Py_TYPE(object.ptr())->tp_name));
+  py::array a = py::reinterpret_borrow<py::array>(object);
+  if (!py::isinstance<py::array_t<float>>(a))  // float32 in native byte order
+    throw py::type_error(std::string(name) + " has dtype " + dtypeName(a) +
+                         "; expected float32 x y z (convert with .astype(numpy.float32))");
+  const bool flat = a.ndim() == 2 && a.shape(1) == 3;
+  const bool grid = grid_allowed && a.ndim() == 3 && a.shape(2) == 3;
+  if (!flat && !grid)
+    throw py::value_error(std::string(name) + " has shape " + describeShape(a) + "; expected (N, 3)" +
+                          (grid_allowed ? " or (rows, cols, 3)" : ""));
+  rows = grid ? static_cast<std::size_t>(a.shape(0)) : 1;
+  cols = grid ? static_cast<std::size_t>(a.shape(1)) : static_cast<std::size_t>(a.shape(0));
+  return a;
+}
+
+// Optional per-point values (intensities): any real numeric dtype, `count` elements in any
+// shape that has that many (N, or rows x cols). Returned as float32, a copy only when the
+// input is not float32 already.
+py::object checkIntensities(const py::object& object, const char* name, std::size_t count)
+{
+  if (object.is_none())
+    return object;
+  if (!py::isinstance<py::array>(object))
+    throw py::type_error(std::string(name) + " must be a numpy array or None");
+  py::array a = py::reinterpret_borrow<py::array>(object);
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + " has dtype " + dtypeName(a) + "; expected a real number per point");
+  if (static_cast<std::size_t>(a.size()) != count || a.ndim() < 1)
+    throw py::value_error(std::string(name) + " has shape " + describeShape(a) + " but there are " +
+                          std::to_string(count) + " points; expected one value per point");
+  return py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+}
+
+py::array_t<std::int64_t, py::array::c_style> checkIntegers(const py::object& object, const char* name, std::size_t count)
+{
+  if (!py::isinstance<py::array>(object))
+    throw py::type_error(std::string(name) + " must be a numpy array of integers");
+  py::array a = py::reinterpret_borrow<py::array>(object);
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + " has dtype " + dtypeName(a) + "; expected integers (one per point)");
+  if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != count)
+    throw py::value_error(std::string(name) + " has shape " + describeShape(a) + "; expected (" +
+                          std::to_string(count) + ",), one value per point");
+  return py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+}
+
+// Copies N x 3 float32 points (any strides) into `out`. A point is either a return (x y z all
+// finite) or no return (all three non-finite, REP-117); returns the index of the first point
+// with some but not all coordinates finite, or -1.
+std::int64_t copyPoints(const py::array& points, std::vector<Eigen::Vector3f>& out)
+{
+  const std::size_t n = out.size();
+  const char* base = static_cast<const char*>(points.data());
+  const py::ssize_t row_stride = points.ndim() == 3 ? points.strides(1) : points.strides(0);
+  const py::ssize_t grid_stride = points.ndim() == 3 ? points.strides(0) : 0;
+  const std::size_t cols = points.ndim() == 3 ? static_cast<std::size_t>(points.shape(1)) : n;
+  const py::ssize_t coord_stride = points.strides(points.ndim() - 1);
+  std::int64_t bad = -1;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::size_t row = cols ? i / cols : 0;
+    const std::size_t col = cols ? i % cols : 0;
+    const char* p = base + static_cast<py::ssize_t>(row) * grid_stride + static_cast<py::ssize_t>(col) * row_stride;
+    Eigen::Vector3f& q = out[i];
+    for (int c = 0; c < 3; ++c)
+      std::memcpy(&q[c], p + c * coord_stride, sizeof(float));
+    const int finite = std::isfinite(q.x()) + std::isfinite(q.y()) + std::isfinite(q.z());
+    if (bad < 0 && finite != 0 && finite != 3)
+      bad = static_cast<std::int64_t>(i);
+  }
+  return bad;
+}
+
+// The float32 values of checkIntensities' result (C-contiguous), nullptr for None. Taken with
+// the GIL held; the caller's reference keeps the array alive.
+const float* intensityData(const py::object& intensities)
+{
+  return intensities.is_none() ? nullptr : py::reinterpret_borrow<py::array_t<float>>(intensities).data();
+}
+
+// Runs without the GIL: only raw pointers.
+void copyIntensities(const float* intensities, std::vector<float>& out)
+{
+  if (intensities == nullptr)
+    std::fill(out.begin(), out.end(), std::numeric_limits<float>::quiet_NaN());
+  else if (!out.empty())
+    std::memcpy(out.data(), intensities, out.size() * sizeof(float));
+}
+
+void throwPartlyFinite(const char* name, std::int64_t index, const Eigen::Vector3f& p)
+{
+  std::ostringstream message;
+  message << name << " point " << index << " = (" << p.x() << ", " << p.y() << ", " << p.z()
+          << ") is partly NaN/Inf: a missing return must be non-finite in all of x y z (REP-117)";
+  throw py::value_error(message.str());
+}
+
+py::dict objectToDict(const core::ReflectiveObject& object)
+{
+  py::dict d;
+  d["id"] = object.id;
+  d["type"] = static_cast<int>(object.type);
+  d["type_name"] = core::objectTypeName(object.type);
+  const std::array<Eigen::Vector3f, 4> corners = object.corners();
+  py::array_t<double> c(std::vector<py::ssize_t>{ 4, 3 });
+  auto cw = c.mutable_unchecked<2>();
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 3; ++j)
+      cw(k, j) = corners[static_cast<std::size_t>(k)][j];
+  d["corners"] = c;
+  d["width"] = static_cast<double>(object.width);
+  d["height"] = static_cast<double>(object.height);
+  py::array_t<double> plane(4);
+  py::array_t<double> centre(3);
+  for (int k = 0; k < 4; ++k)
+    plane.mutable_at(k) = object.plane[k];
+  for (int k = 0; k < 3; ++k)
+    centre.mutable_at(k) = object.centre[k];
+  d["plane"] = plane;
+  d["centre"] = centre;
+  d["surface_points"] = object.surface_points;
+  d["behind_points"] = object.behind_points;
+  d["mean_surface_intensity"] = static_cast<double>(object.mean_surface_intensity);
+  const core::TypeEvidence& e = object.evidence;
+  d["mirrored_points"] = e.mirrored_points;
+  d["matched_points"] = e.matched_points;
+  d["inlier_fraction"] = static_cast<double>(e.inlier_fraction);
+  d["icp_fitness"] = static_cast<double>(e.icp_fitness);
+  d["icp_converged"] = e.icp_converged;
+  py::array_t<double> correction(std::vector<py::ssize_t>{ 4, 4 });
+  auto mw = correction.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 4; ++k)
+      mw(r, k) = e.icp_correction(r, k);
+  d["icp_correction"] = correction;
+  return d;
+}
+
+py::dict statsOf(const core::PipelineResult& r)
+{
+  py::dict stats;
+  stats["range_gated_points"] = r.range_gated_points;
+  stats["outlier_points"] = r.outlier_points;
+  stats["error_surface_points"] = r.error_surface_points;
+  stats["seconds"] = r.times.total;
+  return stats;
+}
+
+py::array_t<OutputPointRecord> cleanedArray(const std::vector<core::OutputPoint>& cleaned)
+{
+  py::array_t<OutputPointRecord> out = newOutputArray(cleaned.size());
+  OutputPointRecord* records = out.mutable_data();
+  for (std::size_t i = 0; i < cleaned.size(); ++i)
+  {
+    const core::OutputPoint& p = cleaned[i];
+    writeRecord(records[i], p.position, p.intensity, p.label, p.echo, p.beam);
+  }
+  return out;
+}
+
+py::list objectList(const std::vector<core::ReflectiveObject>& objects)
+{
+  py::list list;
+  for (const core::ReflectiveObject& object : objects)
+    list.append(objectToDict(object));
+  return list;
+}
+
+// The pipeline and its reused sweep. One call at a time per object (a mutex, taken with the
+// GIL released so that other Python threads run meanwhile).
+class PythonPipeline
+{
+public:
+  explicit PythonPipeline(const core::Params& params) : pipeline_(params) {}
+
+  void setParams(const core::Params& params)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pipeline_.setParams(params);
+  }
+  core::Params params() const { return pipeline_.params(); }
+
+  // Two index-aligned echoes (input modes pair / two_topics).
+  py::tuple filterPair(const py::object& echo1, const py::object& echo2, const py::object& intensity1,
+                       const py::object& intensity2)
+  {
+    std::size_t rows1 = 0, cols1 = 0, rows2 = 0, cols2 = 0;
+    const py::array points1 = checkPoints(echo1, "echo1", true, rows1, cols1);
+    const py::array points2 = checkPoints(echo2, "echo2", true, rows2, cols2);
+    if (rows1 * cols1 != rows2 * cols2)
+      throw py::value_error("echo1 has " + std::to_string(rows1 * cols1) + " points but echo2 has " +
+                            std::to_string(rows2 * cols2) + "; the echoes must be index-aligned");
+    const std::size_t n = rows1 * cols1;
+    const py::object i1 = checkIntensities(intensity1, "intensity1", n);
+    const py::object i2 = checkIntensities(intensity2, "intensity2", n);
+    const float* i1_data = intensityData(i1);
+    const float* i2_data = intensityData(i2);
+
+    py::array_t<OutputPointRecord> labelled = newOutputArray(2 * n);
+    OutputPointRecord* records = labelled.mutable_data();
+    py::array_t<OutputPointRecord> cleaned;
+    py::list objects;
+    py::dict stats;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::int64_t bad[2];
+      {
+        sweep_.resize(rows1, cols1);
+        sweep_.origin.setZero();
+        sweep_.input_cells.clear();
+        bad[0] = copyPoints(points1, sweep_.echoes[0].points);
+        bad[1] = copyPoints(points2, sweep_.echoes[1].points);
+        copyIntensities(i1_data, sweep_.echoes[0].intensities);
+        copyIntensities(i2_data, sweep_.echoes[1].intensities);
+        sweep_.has_intensity = i1_data != nullptr && i2_data != nullptr;
+        sweep_.computeRanges();
+      }
+      for (int k = 0; k < 2; ++k)
+        if (bad[k] >= 0)
+        {
+          py::gil_scoped_acquire acquire;
+          throwPartlyFinite(k == 0 ? "echo1" : "echo2", bad[k], sweep_.echoes[k].points[static_cast<std::size_t>(bad[k])]);
+        }
+      const core::PipelineResult& r = pipeline_.process(sweep_);
+      // Every point of both echoes, echo 1 then echo 2, in beam order (as toLabelledCloud).
+      for (std::size_t k = 0; k < 2; ++k)
+        for (std::size_t i = 0; i < n; ++i)
+          writeRecord(records[k * n + i], sweep_.echoes[k].points[i], sweep_.echoes[k].intensities[i],
+                      r.labels.echoes[k][i], static_cast<std::uint8_t>(k + 1), static_cast<std::uint32_t>(i));
+      py::gil_scoped_acquire acquire;
+      cleaned = cleanedArray(r.cleaned);
+      objects = objectList(r.objects);
+      stats = statsOf(r);
+    }
+    return py::make_tuple(labelled, cleaned, objects, stats);
+  }
+
+  // One cloud holding both returns (input mode dual_return); labelled keeps the input's order.
+  py::tuple filterDualReturn(const py::object& points_object, const py::object& returns_object,
+                             const py::object& rings_object, const py::object& intensities_object,
+                             double azimuth_resolution_deg)
+  {
+    const std::string resolution_problem = core::validateAzimuthResolution(azimuth_resolution_deg);
+    if (!resolution_problem.empty())
+      throw py::value_error(resolution_problem);
+    std::size_t rows = 0, n = 0;
+    const py::array points = checkPoints(points_object, "points", false, rows, n);
+    const auto returns = checkIntegers(returns_object, "returns", n);
+    const auto rings = checkIntegers(rings_object, "rings", n);
+    const py::object intensities = checkIntensities(intensities_object, "intensities", n);
+    const float* intensity_data = intensityData(intensities);
+    const std::int64_t* returns_data = returns.data();
+    const std::int64_t* rings_data = rings.data();
+
+    py::array_t<OutputPointRecord> labelled = newOutputArray(n);
+    OutputPointRecord* records = labelled.mutable_data();
+    py::array_t<OutputPointRecord> cleaned;
+    py::list objects;
+    py::dict stats;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      input_.points.points.resize(n);
+      input_.points.intensities.resize(n);
+      const std::int64_t bad = copyPoints(points, input_.points.points);
+      if (bad >= 0)
+      {
+        py::gil_scoped_acquire acquire;
+        throwPartlyFinite("points", bad, input_.points.points[static_cast<std::size_t>(bad)]);
+      }
+      copyIntensities(intensity_data, input_.points.intensities);
+      input_.has_intensity = intensity_data != nullptr;
+      input_.returns.assign(returns_data, returns_data + n);
+      input_.rings.assign(rings_data, rings_data + n);
+      const core::DualReturnStats binning = core::binDualReturns(input_, azimuth_resolution_deg, sweep_);
+      const core::PipelineResult& r = pipeline_.process(sweep_);
+      // The input's order and count; points in no grid cell are nanPoint, echo 0 (toLabelledCloud).
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        const core::PointRef& cell = sweep_.input_cells[i];
+        if (cell.echo == core::PointRef::kNoCell)
+          writeRecord(records[i], sweep_.unbinned.points[cell.beam], sweep_.unbinned.intensities[cell.beam],
+                      core::Label::nanPoint, 0, kNoBeam);
+        else
+          writeRecord(records[i], sweep_.echoes[cell.echo].points[cell.beam],
+                      sweep_.echoes[cell.echo].intensities[cell.beam], r.labels.echoes[cell.echo][cell.beam],
+                      static_cast<std::uint8_t>(cell.echo + 1), cell.beam);
+      }
+      py::gil_scoped_acquire acquire;
+      cleaned = cleanedArray(r.cleaned);
+      objects = objectList(r.objects);
+      stats = statsOf(r);
+      stats["rows"] = sweep_.rows;
+      stats["cols"] = sweep_.cols;
+      stats["return_base"] = binning.return_base;
+      stats["binned_points"] = binning.binned;
+      stats["paired_beams"] = binning.paired_beams;
+      stats["single_beams"] = binning.single_beams;
+      stats["unbinned_points"] = binning.unbinned();
+    }
+    return py::make_tuple(labelled, cleaned, objects, stats);
+  }
+
+private:
+  std::mutex mutex_;
+  core::Pipeline pipeline_;
+  core::Sweep sweep_;
+  core::DualReturnInput input_;
+};
+}  // namespace
+
+PYBIND11_MODULE(_core, m)
+{
+  m.doc() = "The ROS-free pre-filter core on numpy arrays; use ohm_mirror_detector3d.core instead.";
+
+  PYBIND11_NUMPY_DTYPE(OutputPointRecord, x, y, z, intensity, label, echo, beam);
+
+  py::class_<core::Params>(m, "Params", "The core's parameters under their C++ names (core/params.h).")
+      .def(py::init<>())
+      .def_readwrite("min_range", &core::Params::min_range)
+      .def_readwrite("max_range", &core::Params::max_range)
+      .def_readwrite("outlier_radius", &core::Params::outlier_radius)
+      .def_readwrite("outlier_min_neighbors", &core::Params::outlier_min_neighbors)
+      .def_readwrite("echo_threshold", &core::Params::echo_threshold)
+      .def_readwrite("plane_threshold", &core::Params::plane_threshold)
+      .def_readwrite("min_object_points", &core::Params::min_object_points)
+      .def_readwrite("vision_cone_margin", &core::Params::vision_cone_margin)
+      .def_readwrite("icp_max_distance", &core::Params::icp_max_distance)
+      .def_readwrite("icp_fitness_threshold", &core::Params::icp_fitness_threshold)
+      .def_readwrite("icp_min_points", &core::Params::icp_min_points)
+      .def_readwrite("icp_min_inlier_fraction", &core::Params::icp_min_inlier_fraction)
+      .def("validate", &core::Params::validate, "One message per bad value; empty when all are acceptable.");
+
+  py::class_<PythonPipeline>(m, "Pipeline")
+      .def(py::init<const core::Params&>(), py::arg("params"))
+      .def("set_params", &PythonPipeline::setParams, py::arg("params"))
+      .def_property_readonly("params", &PythonPipeline::params)
+      .def("filter_pair", &PythonPipeline::filterPair, py::arg("echo1"), py::arg("echo2"),
+           py::arg("intensity1") = py::none(), py::arg("intensity2") = py::none(),
+           "(labelled, cleaned, objects, stats) of two index-aligned echoes.")
+      .def("filter_dual_return", &PythonPipeline::filterDualReturn, py::arg("points"), py::arg("returns"),
+           py::arg("rings"), py::arg("intensities") = py::none(),
+           py::arg("azimuth_resolution_deg") = core::kDefaultAzimuthResolutionDeg,
+           "(labelled, cleaned, objects, stats) of one cloud holding both returns.");
+
+  m.attr("DEFAULT_AZIMUTH_RESOLUTION_DEG") = core::kDefaultAzimuthResolutionDeg;
+  m.attr("MIN_AZIMUTH_RESOLUTION_DEG") = core::kMinAzimuthResolutionDeg;
+  m.attr("MAX_AZIMUTH_RESOLUTION_DEG") = core::kMaxAzimuthResolutionDeg;
+  m.def("validate_azimuth_resolution", &core::validateAzimuthResolution,
+        "Empty when the value is a usable azimuth_resolution_deg, otherwise why not.");
+}
