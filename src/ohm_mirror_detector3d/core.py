@@ -315,3 +315,12 @@ def evaluate_sweep(sweep, pipeline: Optional[Pipeline] = None, **metric_kwargs):
     score = metrics.evaluate_sweep(sweep.ground_truth, result.labelled, result.cleaned, result.objects,
                                    simulate.ground_truth_objects(sweep), **metric_kwargs)
     return score, result
+
+
+def evaluate_sweeps(sweeps, pipeline: Optional[Pipeline] = None, **metric_kwargs):
+    """evaluate_sweep over many sweeps with one pipeline: (per-sweep results, the evaluator's
+    aggregated summary, as evaluation.evaluate_bags returns them for bags)."""
+    from . import metrics
+    pipeline = pipeline if pipeline is not None else Pipeline()
+    results = [evaluate_sweep(sweep, pipeline, **metric_kwargs)[0] for sweep in sweeps]
+    return results, metrics.aggregate_results(results)
