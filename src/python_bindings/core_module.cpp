@@ -13,6 +13,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
