@@ -270,12 +270,20 @@ class PythonPipeline
 public:
   explicit PythonPipeline(const core::Params& params) : pipeline_(params) {}
 
+  // Every taker of mutex_ releases the GIL first: a filter call holding the mutex takes the GIL
+  // back to build its outputs, so waiting for the mutex with the GIL held would deadlock.
   void setParams(const core::Params& params)
   {
+    py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(mutex_);
     pipeline_.setParams(params);
   }
-  core::Params params() const { return pipeline_.params(); }
+  core::Params params()
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(mutex_);
+    return pipeline_.params();
+  }
 
   // Two index-aligned echoes (input modes pair / two_topics).
   py::tuple filterPair(const py::object& echo1, const py::object& echo2, const py::object& intensity1,

@@ -243,3 +243,30 @@ def test_the_gil_is_released_while_the_core_runs(pipeline, mirror_sweep):
     # released, it got about half here (2 shared cores). Threshold in between.
     assert core_seconds > 0.1, core_seconds
     assert during > 0.15 * rate * core_seconds, (during, rate, core_seconds)
+
+
+def test_threads_share_a_pipeline_without_deadlock(mirror_sweep):
+    """Calls on one Pipeline take turns (a mutex taken with the GIL released), set_params included."""
+    s = mirror_sweep
+    pipeline = core.Pipeline(core.Params.from_yaml(HOKUYO_PARAMS))
+    expected = pipeline.filter(s.echo1, s.echo2).labelled.tobytes()
+    outputs, errors = [], []
+
+    def work():
+        try:
+            for _ in range(3):
+                outputs.append(pipeline.filter(s.echo1, s.echo2).labelled.tobytes())
+        except Exception as e:  # reported below
+            errors.append(e)
+
+    workers = [threading.Thread(target=work) for _ in range(2)]
+    for w in workers:
+        w.start()
+    for _ in range(20):
+        pipeline.set_params(core.Params.from_yaml(HOKUYO_PARAMS))  # the same values: labels unchanged
+        time.sleep(0.01)
+    for w in workers:
+        w.join(timeout=120)
+    assert not any(w.is_alive() for w in workers), 'deadlock'
+    assert errors == [] and len(outputs) == 6
+    assert all(o == expected for o in outputs)
