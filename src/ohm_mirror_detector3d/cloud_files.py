@@ -239,7 +239,7 @@ def _read_pcd(path):
         tokens = ' '.join(rows).split()
         if len(tokens) != n * columns:
             raise ValueError('%s: expected %d values per point line' % (path, columns))
-        values = np.array([float(t) for t in tokens], np.float64).reshape(n, columns) if n else np.zeros((0, columns))
+        values = np.array(tokens, np.float64).reshape(n, columns) if n else np.zeros((0, columns))
         points = np.empty(n, dtype)
         k = 0
         for name, count in zip(unique, counts):
