@@ -18,7 +18,8 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
   libtf2-ros-dev libtf2-eigen-dev python3-rostest python3-dynamic-reconfigure \
   python3-sensor-msgs python3-geometry-msgs python3-visualization-msgs python3-tf2-ros python3-tf2-msgs \
   python3-numpy python3-matplotlib python3-pytest libgtest-dev rosbash tf2-tools \
-  libtopic-tools-dev python3-genpy pybind11-dev python3-pybind11 python3-dev python3-yaml
+  libtopic-tools-dev python3-genpy pybind11-dev python3-pybind11 python3-dev python3-yaml \
+  libdiagnostic-updater-dev python3-diagnostic-msgs rviz xvfb xauth imagemagick
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
@@ -55,10 +56,17 @@ build: deps
 test: build
 	$(SOURCE_WS) && cd $(WS)/build && ctest --output-on-failure
 
+# With Xvfb, rviz runs on a virtual screen and its picture is saved as demo_output/rviz.png.
 demo: build
 	$(SOURCE_WS) && port=$$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])') && \
 	  export ROS_MASTER_URI=http://127.0.0.1:$$port && \
-	  roslaunch -p $$port --screen $(PKG) demo.launch
+	  if command -v xvfb-run >/dev/null && command -v Xvfb >/dev/null; then \
+	    xvfb-run -a -s "-screen 0 1024x768x24" roslaunch -p $$port --screen $(PKG) demo.launch \
+	      out:=$(CURDIR)/demo_output rviz:=true screenshot:=$(CURDIR)/demo_output/rviz.png; \
+	  else \
+	    echo "no Xvfb: the demo runs without rviz"; \
+	    roslaunch -p $$port --screen $(PKG) demo.launch out:=$(CURDIR)/demo_output; \
+	  fi
 
 # Not part of `make test`: a Release build with the bench binary, then the measurements
 # (table on stdout, bench/results.json). Takes a few minutes (simulation + 8 sweeps x 22 runs).

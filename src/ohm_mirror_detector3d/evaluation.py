@@ -41,9 +41,11 @@ class SweepData:
 
 
 def evaluate_bags(filter_bag, ground_truth_bag=None, prefix=DEFAULT_PREFIX, ground_truth_topic=DEFAULT_GROUND_TRUTH,
-                  ground_truth_objects_topic=DEFAULT_GROUND_TRUTH_OBJECTS, max_sweeps=None, **metric_kwargs):
+                  ground_truth_objects_topic=DEFAULT_GROUND_TRUTH_OBJECTS, max_sweeps=None, progress=None,
+                  **metric_kwargs):
     """Scores every stamp present in both bags (ground truth defaults to the filter bag).
 
+    progress: optional callable(total) -> progress.Progress, told of every sweep scored.
     Returns (per-sweep results, aggregated summary, SweepData of the last sweep or None).
     """
     topics = filter_topics(prefix)
@@ -53,11 +55,16 @@ def evaluate_bags(filter_bag, ground_truth_bag=None, prefix=DEFAULT_PREFIX, grou
     if max_sweeps:
         stamps = stamps[:max_sweeps]
     results, last = [], None
+    shown = progress(len(stamps)) if progress is not None else None
     for stamp in stamps:
         last = SweepData(stamp, gt[ground_truth_topic][stamp], gt[ground_truth_objects_topic].get(stamp),
                          out[topics['labelled']][stamp], out[topics['cleaned']][stamp],
                          out[topics['objects']].get(stamp))
         results.append(last.evaluate(**metric_kwargs))
+        if shown is not None:
+            shown.update(len(results))
+    if shown is not None:
+        shown.finish()
     return results, metrics.aggregate_results(results), last
 
 
@@ -105,14 +112,20 @@ class LiveEvaluator:
             self.last = data
             self._cond.notify_all()
 
-    def wait(self, count, timeout=None):
-        """Blocks until `count` sweeps are scored (or timeout s / shutdown); returns the results so far."""
+    def wait(self, count, timeout=None, progress=None):
+        """Blocks until `count` sweeps are scored (or timeout s / shutdown); returns the results so far.
+
+        progress: optional progress.Progress, told of the sweeps scored while waiting."""
         deadline = None if timeout is None else rospy.get_time() + timeout
         with self._cond:
             while len(self.results) < count and not rospy.is_shutdown():
                 if deadline is not None and rospy.get_time() > deadline:
                     break
                 self._cond.wait(0.2)
+                if progress is not None:
+                    progress.update(len(self.results))
+            if progress is not None:
+                progress.update(len(self.results), last=True)
             return list(self.results)
 
     def close(self):

@@ -56,19 +56,13 @@ def _object_frame(obj):
     return centre, n, up
 
 
-def plot_views(xyz, labels, path, title='', ground_truth_objects=(), detected_objects=(), max_points=150000,
-               seed=0):
-    """Writes a PNG with a top view (x-y), a side view (x-z) and, when objects are given, a close-up of the
-    non-valid points in the frame of the first object (depth behind its plane vs. height)."""
-    plt = _pyplot()
+def _draw_views(axes, xyz, labels, ground_truth_objects, detected_objects, max_points, rng, legend=True):
+    """Top view, side view and (with a third axis) the object close-up of one cloud on `axes`."""
     xyz = np.asarray(xyz, float)
     labels = np.asarray(labels).astype(np.int64)
     finite = np.isfinite(xyz).all(axis=1)
     xyz, labels = xyz[finite], labels[finite]
     objects = list(ground_truth_objects) or list(detected_objects)
-    panels = 3 if objects else 2
-    fig, axes = plt.subplots(1, panels, figsize=(6 * panels, 6))
-    rng = np.random.default_rng(seed)
     for ax, (i, j, name) in zip(axes, ((0, 1, 'top view (x-y)'), (0, 2, 'side view (x-z)'))):
         _scatter(ax, xyz[:, i], xyz[:, j], labels, max_points, rng)
         for o in ground_truth_objects:
@@ -79,8 +73,9 @@ def plot_views(xyz, labels, path, title='', ground_truth_objects=(), detected_ob
         ax.set_title(name)
         ax.set_xlabel('xyz'[i] + ' [m]')
         ax.set_ylabel('xyz'[j] + ' [m]')
-    axes[0].legend(loc='upper right', fontsize=7, markerscale=8)
-    if objects:
+    if legend:
+        axes[0].legend(loc='upper right', fontsize=7, markerscale=8)
+    if objects and len(axes) > 2:
         ax = axes[2]
         centre, n, up = _object_frame(objects[0])
         rel = xyz - centre
@@ -93,7 +88,37 @@ def plot_views(xyz, labels, path, title='', ground_truth_objects=(), detected_ob
         ax.set_title('non-valid points, plane of object %s edge-on' % objects[0].get('name', objects[0].get('id', 0)))
         ax.set_xlabel('depth behind the plane [m]')
         ax.set_ylabel('height along the plane [m]')
+
+
+def plot_views(xyz, labels, path, title='', ground_truth_objects=(), detected_objects=(), max_points=150000,
+               seed=0):
+    """Writes a PNG with a top view (x-y), a side view (x-z) and, when objects are given, a close-up of the
+    non-valid points in the frame of the first object (depth behind its plane vs. height)."""
+    plt = _pyplot()
+    panels = 3 if (list(ground_truth_objects) or list(detected_objects)) else 2
+    fig, axes = plt.subplots(1, panels, figsize=(6 * panels, 6))
+    _draw_views(axes, xyz, labels, ground_truth_objects, detected_objects, max_points, np.random.default_rng(seed))
     return _save(plt, fig, path, title)
+
+
+def plot_before_after(before, after, path, title='', detected_objects=(), max_points=150000, seed=0, dpi=110,
+                      panel_size=6.0):
+    """The paper's before/after figure: one row per cloud, each (xyz, labels) -- `before` the labelled
+    cloud as measured, `after` the cleaned one (phantoms back-projected) -- with top view, side view and,
+    when objects are given, the close-up of the first object's plane."""
+    plt = _pyplot()
+    panels = 3 if list(detected_objects) else 2
+    fig, axes = plt.subplots(2, panels, figsize=(panel_size * panels, 2 * panel_size), squeeze=False)
+    rng = np.random.default_rng(seed)
+    for row, ((xyz, labels), name) in enumerate(((before, 'before'), (after, 'after'))):
+        _draw_views(axes[row], xyz, labels, (), detected_objects, max_points, rng)
+        axes[row][0].set_title('%s filtering: %s' % (name, axes[row][0].get_title()))
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path
 
 
 def plot_echoes(echo1_xyz, echo2_xyz, path, title=''):

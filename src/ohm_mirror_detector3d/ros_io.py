@@ -184,10 +184,12 @@ def filter_output_from_msgs(labelled, cleaned, objects=None):
 # Bags
 
 def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None, topic_prefix='/',
-                     to_messages=None):
+                     to_messages=None, progress=None):
     """Writes sweeps to a bag (no master needed): topics prefix + echo_pair, echo1, echo2, ground_truth,
     ground_truth_objects (or those of `to_messages(sweep, stamp, frame_id)`, default sweep_to_messages);
-    sweep k is stamped start_time + k * period. Returns the stamps."""
+    sweep k is stamped start_time + k * period. Returns the stamps.
+
+    progress: optional progress.Progress, told of every sweep written."""
     import rosbag
     to_messages = to_messages or sweep_to_messages
     stamps = []
@@ -197,6 +199,10 @@ def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None,
             for topic, msg in to_messages(sweep, stamp, frame_id).items():
                 bag.write(topic_prefix + topic, msg, stamp)
             stamps.append(stamp)
+            if progress is not None:
+                progress.update(len(stamps))
+    if progress is not None:
+        progress.finish()
     return stamps
 
 
@@ -316,9 +322,11 @@ def scan_stream_messages(stream, count, scan_frame='laser', corrupt_scans=()):
         j += 1
 
 
-def write_scan_stream_bag(path, stream, count, scan_frame='laser', topic_prefix='/'):
+def write_scan_stream_bag(path, stream, count, scan_frame='laser', topic_prefix='/', progress=None):
     """Writes /scan_echoes, /tf, /ground_truth and /ground_truth_objects of `count` sweeps (plus the scan that
-    completes the last one) to a bag, each at its stamp. Returns the ground-truth stamps."""
+    completes the last one) to a bag, each at its stamp. Returns the ground-truth stamps.
+
+    progress: optional progress.Progress, told of every sweep completed."""
     import rosbag
     stamps = []
     with rosbag.Bag(path, 'w') as bag:
@@ -327,6 +335,10 @@ def write_scan_stream_bag(path, stream, count, scan_frame='laser', topic_prefix=
             bag.write(name, msg, rospy.Time.from_sec(stamp))
             if topic == TOPIC_GROUND_TRUTH:
                 stamps.append(msg.header.stamp)
+                if progress is not None:
+                    progress.update(len(stamps))
+    if progress is not None:
+        progress.finish()
     return stamps
 
 

@@ -3,6 +3,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <vector>
 
@@ -105,6 +106,7 @@ void PreFilterNodelet::onInit()
                  360.0 / static_cast<double>(core::azimuthBins(azimuth_resolution_deg_)));
 
   advertiseOutputs();
+  startDiagnostics();
   NODELET_INFO("pre-filter ready: input_mode %s, publishing %s, %s, %s, %s", input_mode_.c_str(),
                labelled_pub_.getTopic().c_str(), cleaned_pub_.getTopic().c_str(), objects_pub_.getTopic().c_str(),
                markers_pub_.getTopic().c_str());
@@ -125,6 +127,25 @@ void PreFilterNodelet::advertiseOutputs()
                                                       on_connection, on_connection);
   markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>(topicName(pnh, "markers", { "pub_markers" }), 1,
                                                                 on_connection, on_connection);
+}
+
+void PreFilterNodelet::startDiagnostics()
+{
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  diagnostics_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
+  diagnostics_->setHardwareID(input_topic_);
+  diagnostics_->add("pre-filter", [this](diagnostic_updater::DiagnosticStatusWrapper& status) {
+    bool subscribed = false;
+    {
+      std::lock_guard<std::mutex> lock(subscription_mutex_);
+      subscribed = subscribed_;
+    }
+    stats_.report(status, subscribed);
+  });
+  // A wall timer: under use_sim_time (a bag played with --clock) a paused clock must not
+  // silence the diagnostics.
+  diagnostics_timer_ = pnh.createWallTimer(ros::WallDuration(diagnostics_->getPeriod()),
+                                           [this](const ros::WallTimerEvent&) { diagnostics_->force_update(); });
 }
 
 void PreFilterNodelet::updateSubscription()
@@ -219,6 +240,7 @@ void PreFilterNodelet::onEchoPair(const EchoPair::ConstPtr& pair)
   if (!problem.empty())
   {
     NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
+    stats_.recordDropped(problem);
     return;
   }
   processAndPublish(pair->header);
@@ -234,6 +256,7 @@ void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& ec
     NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << echo1_sub_.getTopic() << " + "
                                                                               << echo2_sub_.getTopic() << ": "
                                                                               << problem);
+    stats_.recordDropped(problem);
     return;
   }
   processAndPublish(echo1->header);
@@ -245,7 +268,10 @@ void PreFilterNodelet::onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::Co
   {
     const std::string problem = scan_input_->addScan(scan);
     if (!problem.empty())
+    {
       NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping scan on " << input_topic_ << ": " << problem);
+      stats_.recordDropped("scan: " + problem);
+    }
   }
   scan_input_->drain([this](core::Sweep& sweep, const std_msgs::Header& header) {
     std::lock_guard<std::mutex> lock(pipeline_mutex_);
@@ -263,6 +289,7 @@ void PreFilterNodelet::onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPt
   if (!problem.empty())
   {
     NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
+    stats_.recordDropped(problem);
     return;
   }
   const std::string unbinned = ros_io::describeUnbinned(stats, azimuth_resolution_deg_);
@@ -286,6 +313,7 @@ void PreFilterNodelet::onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr
     NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << " ("
                                                                               << message->getDataType()
                                                                               << "): " << problem);
+    stats_.recordDropped(problem);
     return;
   }
   processAndPublish(header);
@@ -311,6 +339,7 @@ bool PreFilterNodelet::placeSensorOrigin(const std_msgs::Header& header)
     NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep: no transform from sensor_frame '"
                                                              << sensor_frame_ << "' to the cloud's frame '"
                                                              << header.frame_id << "': " << error.what());
+    stats_.recordDropped(std::string("no transform from sensor_frame: ") + error.what());
     return false;
   }
 }
@@ -325,7 +354,10 @@ void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
   request.objects = objects_pub_.getNumSubscribers() > 0;
   request.markers = markers_pub_.getNumSubscribers() > 0;
   ros_io::OutputMessages outputs;
-  pipeline_.process(header, request, outputs);
+  const auto start = ros_io::ProcessingStats::Clock::now();
+  const core::PipelineResult& result = pipeline_.process(header, request, outputs);
+  const double seconds = std::chrono::duration<double>(ros_io::ProcessingStats::Clock::now() - start).count();
+  stats_.recordProcessed(seconds, result.objects.size(), pipeline_.sweep().beamCount() * 2);
   if (outputs.labelled)
     labelled_pub_.publish(outputs.labelled);
   if (outputs.cleaned)

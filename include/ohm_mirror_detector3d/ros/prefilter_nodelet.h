@@ -1,6 +1,7 @@
 // The pre-filter as a nodelet: converts messages, runs core::Pipeline, publishes.
 #pragma once
 
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/time_synchronizer.h>
@@ -23,6 +24,7 @@
 #include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
 #include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
+#include "ohm_mirror_detector3d/ros/processing_stats.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -33,6 +35,8 @@ private:
 
   void onInit() override;
   void advertiseOutputs();
+  // /diagnostics every ~diagnostic_period seconds (default 1): see ProcessingStats.
+  void startDiagnostics();
 
   // Lazy subscription: the input is subscribed only while an output has a subscriber.
   void updateSubscription();
@@ -91,6 +95,10 @@ private:
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<PreFilterConfig>> reconfigure_server_;
   PreFilterConfig active_config_;
+
+  ros_io::ProcessingStats stats_;
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  ros::WallTimer diagnostics_timer_;
 };
 
 }  // namespace ohm_mirror_detector3d
