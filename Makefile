@@ -18,11 +18,11 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
   libtf2-ros-dev libtf2-eigen-dev python3-rostest python3-dynamic-reconfigure \
   python3-sensor-msgs python3-geometry-msgs python3-visualization-msgs python3-tf2-ros python3-tf2-msgs \
   python3-numpy python3-matplotlib python3-pytest libgtest-dev rosbash tf2-tools \
-  libtopic-tools-dev python3-genpy
+  libtopic-tools-dev python3-genpy catkin-lint
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build test demo bench clean
+.PHONY: all deps build test demo bench test-compat print-apt-packages clean
 all: build
 
 # Installs only what is missing, so a prepared machine pays one dpkg-query.
@@ -66,6 +66,23 @@ bench:
 	$(MAKE) build BUILD_TYPE=Release CMAKE_EXTRA=-DOHM_BUILD_BENCH=ON
 	$(SOURCE_WS) && /usr/bin/python3 bench/run_bench.py --binary $(WS)/devel/lib/$(PKG)/bench_pipeline \
 	  --output $(CURDIR)/bench/results.json
+
+# Not part of `make test`: build and ctest in a Debian 11 (bullseye) chroot, the toolchain closest
+# to ROS Noetic robots (gcc 10, PCL 1.11, Python 3.9), plus vermin for Python 3.8. The chroot
+# lives in .compat/ (git-ignored, ~3 GB) and is reused; first run ~5 min, later ones ~2 min.
+test-compat:
+	@missing=$$(for p in debootstrap python3-venv; do \
+	    dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  sudo=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$sudo apt-get update -qq; \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+	test/compat/run_compat.sh
+
+# For test/compat/run_compat.sh, which installs the same list inside the chroot.
+print-apt-packages:
+	@echo $(APT_PACKAGES)
 
 clean:
 	rm -rf $(WS)
