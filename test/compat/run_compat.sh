@@ -4,7 +4,7 @@
 # robots that Debian's archive offers; then checks with vermin that the Python code needs
 # nothing newer than Python 3.8 (Noetic's Ubuntu 20.04).
 #
-# The chroot is made with debootstrap into .compat/ (git-ignored, ~3 GB) and reused when it is
+# The chroot is made with debootstrap into .compat/ (git-ignored, ~4 GB) and reused when it is
 # already there. The repository's working tree (tracked and untracked, not ignored files) is
 # copied into a catkin workspace inside the chroot, so the host's .ws is never touched.
 # Needs root (debootstrap, mount, chroot); uses sudo when not root.
@@ -40,6 +40,22 @@ log "vermin: $(echo "$python_files" | wc -l) Python files must run on Python 3.8
 # --no-tips: only violations, no advice about backports.
 (cd "$repo" && "$venv/bin/vermin" -t=3.8- --violations --eval-annotations --no-tips $python_files)
 log "vermin: OK"
+
+# What neither vermin nor Debian 11 sees, but Ubuntu 20.04 (Noetic) would: PCL 1.10's Ptr is a
+# boost::shared_ptr (std::make_shared of a PCL type does not convert to it) and has no
+# pcl::Indices / pcl::index_t; Python 3.8 has no str.removeprefix/removesuffix (vermin cannot
+# see method calls on untyped variables). Comment lines are skipped.
+noetic_only=$(cd "$repo" && {
+  grep -rnE 'make_shared<[[:space:]]*(pcl::|Cloud\b)|pcl::make_shared|pcl::Indices\b|pcl::index_t\b' \
+    src include test bench --include='*.cpp' --include='*.h' || true
+  grep -rnE '\.remove(prefix|suffix)\(' $python_files || true
+} | grep -vE '^[^:]+:[0-9]+:[[:space:]]*(//|#)' || true)
+if [ -n "$noetic_only" ]; then
+  echo "$noetic_only"
+  echo "these lines would not build or run on ROS Noetic (Ubuntu 20.04: PCL 1.10, Python 3.8)" >&2
+  exit 1
+fi
+log "no PCL >= 1.11 or Python >= 3.9 only constructs (grep): OK"
 
 # --- 2. The chroot ---------------------------------------------------------------------------
 if [ ! -e "$root/.compat_bootstrapped" ]; then
