@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# `make test-compat`: builds the package and runs its whole ctest suite on an older toolchain,
+# Debian 11 (bullseye: gcc 10, PCL 1.11, Python 3.9, catkin 0.8.9), the closest to ROS Noetic
+# robots that Debian's archive offers; then checks with vermin that the Python code needs
+# nothing newer than Python 3.8 (Noetic's Ubuntu 20.04).
+#
+# The chroot is made with debootstrap into .compat/ (git-ignored, ~4 GB) and reused when it is
+# already there. The repository's working tree (tracked and untracked, not ignored files) is
+# copied into a catkin workspace inside the chroot, so the host's .ws is never touched.
+# Needs root (debootstrap, mount, chroot); uses sudo when not root.
+set -euo pipefail
+
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+compat_dir=$repo/.compat
+root=$compat_dir/bullseye
+venv=$compat_dir/venv
+pkg=ohm_mirror_detector3d
+# The host's Debian mirror (the only archive reachable on these machines).
+# Active entries only: comments may name other archives (snapshot.debian.org).
+mirror=${COMPAT_MIRROR:-$(cat /etc/apt/sources.list /etc/apt/sources.list.d/*.sources /etc/apt/sources.list.d/*.list \
+  2>/dev/null | grep -E '^(URIs:|deb )' | grep -o -E 'https?://[^ ]+/debian/?( |$)' | tr -d ' ' | head -n1 || true)}
+mirror=${mirror:-http://deb.debian.org/debian}
+
+sudo=
+[ "$(id -u)" = 0 ] || sudo=sudo
+start=$(date +%s)
+log() { echo "[test-compat $(( $(date +%s) - start ))s] $*"; }
+
+# --- 1. Python 3.8 syntax and library use (vermin, in a venv of Debian's python3) ---------
+# First, so that it reports even when the chroot part fails.
+if [ ! -x "$venv/bin/vermin" ]; then
+  log "installing vermin into $venv"
+  /usr/bin/python3 -m venv "$venv"
+  "$venv/bin/pip" install -q vermin
+fi
+python_files=$(cd "$repo" && { echo setup.py; find src/$pkg test bench -name '*.py'; \
+  grep -l -r -m1 '^#!.*python' scripts test bench cfg 2>/dev/null; } | sort -u)
+log "vermin: $(echo "$python_files" | wc -l) Python files must run on Python 3.8"
+# --eval-annotations: annotations are evaluated at run time on 3.8 (no PEP 563 by default).
+# --no-tips: only violations, no advice about backports.
+(cd "$repo" && "$venv/bin/vermin" -t=3.8- --violations --eval-annotations --no-tips $python_files)
+log "vermin: OK"
+
+# What neither vermin nor Debian 11 sees, but Ubuntu 20.04 (Noetic) would: PCL 1.10's Ptr is a
+# boost::shared_ptr (std::make_shared of a PCL type does not convert to it) and has no
+# pcl::Indices / pcl::index_t; Python 3.8 has no str.removeprefix/removesuffix (vermin cannot
+# see method calls on untyped variables). Comment lines are skipped.
+noetic_only=$(cd "$repo" && {
+  grep -rnE 'make_shared<[[:space:]]*(pcl::|Cloud\b)|pcl::make_shared|pcl::Indices\b|pcl::index_t\b' \
+    src include test bench --include='*.cpp' --include='*.h' || true
+  grep -rnE '\.remove(prefix|suffix)\(' $python_files || true
+} | grep -vE '^[^:]+:[0-9]+:[[:space:]]*(//|#)' || true)
+if [ -n "$noetic_only" ]; then
+  echo "$noetic_only"
+  echo "these lines would not build or run on ROS Noetic (Ubuntu 20.04: PCL 1.10, Python 3.8)" >&2
+  exit 1
+fi
+log "no PCL >= 1.11 or Python >= 3.9 only constructs (grep): OK"
+
+# --- 2. The chroot ---------------------------------------------------------------------------
+if [ ! -e "$root/.compat_bootstrapped" ]; then
+  log "debootstrap bullseye into $root from $mirror"
+  $sudo rm -rf "$root"
+  $sudo debootstrap --variant=minbase bullseye "$root" "$mirror" > "$compat_dir/debootstrap.log" 2>&1 \
+    || { tail -n 30 "$compat_dir/debootstrap.log"; exit 1; }
+  # No bullseye-security: its index has missing files on this mirror.
+  echo "deb $mirror bullseye main
+deb $mirror bullseye-updates main" | $sudo tee "$root/etc/apt/sources.list" > /dev/null
+  # A minbase chroot has no /etc/hosts, and rostest must resolve localhost.
+  echo "127.0.0.1 localhost" | $sudo tee "$root/etc/hosts" > /dev/null
+  $sudo touch "$root/.compat_bootstrapped"
+fi
+
+mounted=()
+cleanup() {
+  local status=$?
+  for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do
+    $sudo umount "${mounted[i]}" || $sudo umount -l "${mounted[i]}" || true
+  done
+  exit $status
+}
+trap cleanup EXIT INT TERM
+mount_in() {  # mount_in TARGET MOUNT_ARGS...
+  local target=$1; shift
+  mountpoint -q "$target" || { $sudo mount "$@" "$target"; mounted+=("$target"); }
+}
+mount_in "$root/proc" -t proc proc
+# /dev/null, /dev/urandom and /dev/shm for the tests' processes.
+mount_in "$root/dev" --bind /dev
+
+in_chroot() {  # a clean environment: none of the host's pyenv or ROS variables
+  $sudo chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM=dumb \
+    PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin "$@"
+}
+
+# The same Debian packages as the host build (read from the Makefile, so they stay in sync).
+packages=$(make -s -C "$repo" --no-print-directory print-apt-packages)
+missing=$(in_chroot dpkg-query -W -f='${Status} ${Package}\n' $packages 2>&1 \
+  | awk '!/^install ok installed/ {print $NF}' || true)
+if [ -n "$missing" ]; then
+  log "installing into the chroot:" $missing
+  in_chroot apt-get update -qq
+  in_chroot env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+    $packages > "$compat_dir/apt.log" 2>&1 || { tail -n 30 "$compat_dir/apt.log"; exit 1; }
+fi
+log "toolchain: $(in_chroot gcc -dumpfullversion), PCL $(in_chroot dpkg-query -W -f='${Version}' libpcl-dev), $(in_chroot python3 --version), $(in_chroot cmake --version | head -n1)"
+
+# --- 3. Build and test in a workspace inside the chroot -------------------------------------
+ws=/compat_ws
+$sudo mkdir -p "$root$ws/src/$pkg"
+# A fresh copy of the working tree; tar keeps mtimes, so the kept build/ is incremental.
+$sudo find "$root$ws/src/$pkg" -mindepth 1 -delete
+(cd "$repo" && git ls-files -z --cached --others --exclude-standard \
+  | xargs -0 -r sh -c 'for f; do [ -e "$f" ] && printf "%s\0" "$f"; done' sh \
+  | tar --null -T - -cf -) | $sudo tar -xf - -C "$root$ws/src/$pkg"
+
+log "building in the chroot (log: $root$ws/build.log)"
+in_chroot /bin/bash -eo pipefail -c "
+  export ROS_HOME=$ws/.ros ROS_LOG_DIR=$ws/.ros/log ROS_HOSTNAME=127.0.0.1
+  mkdir -p $ws/devel/lib/python3/dist-packages \$ROS_LOG_DIR
+  cd $ws
+  nice -n 10 catkin_make all tests -j2 -DCMAKE_BUILD_TYPE=Release \
+    -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON > build.log 2>&1 \
+    || { tail -n 80 build.log; exit 1; }
+  grep -E 'warning:' build.log | sort -u | head -n 20 || true
+"
+log "running ctest in the chroot"
+in_chroot /bin/bash -eo pipefail -c "
+  export ROS_HOME=$ws/.ros ROS_LOG_DIR=$ws/.ros/log ROS_HOSTNAME=127.0.0.1
+  source $ws/devel/setup.bash
+  cd $ws/build && ctest --output-on-failure
+"
+log "test-compat passed (Debian 11 bullseye build + ctest, vermin 3.8)"
