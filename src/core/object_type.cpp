@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -71,6 +72,25 @@ constexpr float kGlassFractionOfRequired = 0.5f;
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
+// Beams per block of the sweep's block boxes (see ObjectTypeAnalyzer::beginSweep), and the
+// slack of the tests on them, far above float rounding.
+constexpr std::size_t kBlockBeams = 64;
+constexpr float kBlockSlack = 1e-4f;
+
+// Least and largest signed distance from the plane (n, d) of any point of the box.
+float minSide(const Eigen::AlignedBox3f& box, const Eigen::Vector3f& n, float d)
+{
+  const Eigen::Vector3f centre = box.center();
+  const Eigen::Vector3f half = 0.5f * box.sizes();
+  return n.dot(centre) + d - n.cwiseAbs().dot(half);
+}
+float maxSide(const Eigen::AlignedBox3f& box, const Eigen::Vector3f& n, float d)
+{
+  const Eigen::Vector3f centre = box.center();
+  const Eigen::Vector3f half = 0.5f * box.sizes();
+  return n.dot(centre) + d + n.cwiseAbs().dot(half);
+}
+
 // Point i of echo 2 repeating echo 1 (a single return) is one measurement, not two.
 bool isRepeatedReturn(const Sweep& sweep, std::size_t k, std::size_t i)
 {
@@ -131,6 +151,30 @@ public:
   {
     float best = reach_ * reach_;
     std::uint32_t found = kNone;
+    // The query's own cell first: a neighbour nearer than the cell's nearest face is the
+    // nearest of all (the common case once ICP has aligned the phantoms), and the other 26
+    // cells need no look.
+    if (!sorted_.empty() && q.allFinite() && inside(q))
+    {
+      const std::uint32_t own = cellIndex(q);
+      for (std::uint32_t j = start_[own]; j < start_[own + 1]; ++j)
+      {
+        const float d = (sorted_[j] - q).squaredNorm();
+        if (d <= best)
+        {
+          best = d;
+          found = j;
+        }
+      }
+      const Eigen::Array3f c = ((q - corner_) * inv_cell_).array();
+      const Eigen::Array3f fraction = c - c.floor();
+      const float face = std::min(fraction.minCoeff(), (1.0f - fraction).minCoeff()) / inv_cell_;
+      if (found != kNone && best < face * face)
+      {
+        squared = best;
+        return original_[found];
+      }
+    }
     forEachColumn(q, [&](std::uint32_t begin, std::uint32_t end) {
       for (std::uint32_t j = begin; j < end; ++j)
       {
@@ -177,6 +221,14 @@ private:
       return static_cast<std::size_t>(std::min(std::max(v, 1.0f), static_cast<float>(n - 2)));
     };
     return static_cast<std::uint32_t>((axis(c.x(), nx_) * ny_ + axis(c.y(), ny_)) * nz_ + axis(c.z(), nz_));
+  }
+
+  // Whether q lies in one of the grid's inner cells (where cellIndex needs no clamping).
+  bool inside(const Eigen::Vector3f& q) const
+  {
+    const Eigen::Vector3f c = (q - corner_) * inv_cell_;
+    return c.x() >= 1.0f && c.y() >= 1.0f && c.z() >= 1.0f && c.x() < static_cast<float>(nx_ - 1) &&
+           c.y() < static_cast<float>(ny_ - 1) && c.z() < static_cast<float>(nz_ - 1);
   }
 
   template <typename Visit>
@@ -313,6 +365,12 @@ std::uint64_t voxelKey(const Eigen::Vector3f& p, const Eigen::Vector3f& corner, 
 
 struct ObjectTypeAnalyzer::Buffers
 {
+  // Bounding box of the finite points of each block of kBlockBeams beams, per echo, and the
+  // sweep they belong to (see beginSweep).
+  std::array<std::vector<Eigen::AlignedBox3f>, 2> block_boxes;
+  const Sweep* boxes_of = nullptr;
+  std::size_t boxes_beams = 0;
+
   std::vector<Eigen::Vector3f> all_behind;    // every point behind the object, as measured
   std::vector<Eigen::Vector3f> behind;        // the sample of them that is registered
   std::vector<Eigen::Vector3f> mirrored;      // the sample reflected across the plane
@@ -343,7 +401,8 @@ struct ObjectTypeAnalyzer::Buffers
   std::size_t countMatches(const std::vector<Eigen::Vector3f>& points, double& squared_sum) const;
   // Point-to-point ICP of `mirrored` onto `real` (the correspondences within max_distance,
   // the rigid motion that best aligns them, repeated); leaves the result in `aligned`.
-  bool registerMirrored(Eigen::Matrix4f& correction);
+  // With stop_when_too_far, stops once the correction exceeds what a mirror allows.
+  bool registerMirrored(bool stop_when_too_far, float max_distance, Eigen::Matrix4f& correction);
   void refineMirrorPlane(const Eigen::Vector3f& origin, float max_distance, double phantom_weight,
                          ReflectiveObject& object);
 };
@@ -355,10 +414,30 @@ ObjectTypeAnalyzer::~ObjectTypeAnalyzer() = default;
 ObjectTypeAnalyzer::ObjectTypeAnalyzer(ObjectTypeAnalyzer&&) noexcept = default;
 ObjectTypeAnalyzer& ObjectTypeAnalyzer::operator=(ObjectTypeAnalyzer&&) noexcept = default;
 
+void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
+{
+  Buffers& b = *buffers_;
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t k = 0; k < 2; ++k)
+  {
+    std::vector<Eigen::AlignedBox3f>& boxes = b.block_boxes[k];
+    boxes.assign((beams + kBlockBeams - 1) / kBlockBeams, Eigen::AlignedBox3f());
+    const std::vector<Eigen::Vector3f>& points = sweep.echoes[k].points;
+    for (std::size_t i = 0; i < beams; ++i)
+      if (points[i].allFinite())
+        boxes[i / kBlockBeams].extend(points[i]);
+  }
+  b.boxes_of = &sweep;
+  b.boxes_beams = beams;
+}
+
 void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const SweepLabels& labels,
                                  ReflectiveObject& object)
 {
   Buffers& b = *buffers_;
+  const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
+  const Eigen::Vector3f normal = object.plane.head<3>();
+  const float plane_offset = object.plane[3];
   TypeEvidence& evidence = object.evidence;
   evidence = TypeEvidence();
   object.type = ObjectType::unknown;
@@ -369,18 +448,29 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
   const std::size_t min_points = static_cast<std::size_t>(params.icp_min_points);
 
   b.all_behind.clear();
+  const VisionCone cone(object, sweep.origin, plane_threshold, margin);
   Eigen::AlignedBox3f landing_zone;
   Eigen::Vector3f direction_sum = Eigen::Vector3f::Zero();
+  const std::size_t beams = sweep.beamCount();
   for (std::size_t k = 0; k < 2; ++k)
   {
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    for (std::size_t i = 0; i < beams; ++i)
     {
+      // A block whose box lies wholly in front of the plane's surface band has no point behind.
+      if (blocked && i % kBlockBeams == 0)
+      {
+        const Eigen::AlignedBox3f& box = b.block_boxes[k][i / kBlockBeams];
+        if (box.isEmpty() || minSide(box, normal, plane_offset) > -plane_threshold + kBlockSlack)
+        {
+          i += kBlockBeams - 1;
+          continue;
+        }
+      }
       if (labels.echoes[k][i] == Label::nanPoint || isRepeatedReturn(sweep, k, i))
         continue;
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
       // Most points are in front of the plane: skip them before the cone test.
-      if (!(object.signedDistance(p) < -plane_threshold) ||
-          locateInCone(object, sweep.origin, p, plane_threshold, margin).relation != ConeRelation::behind)
+      if (!(cone.side(p) < -plane_threshold) || cone.locate(p).relation != ConeRelation::behind)
         continue;
       const Eigen::Vector3f mirrored = object.reflect(p);
       b.all_behind.push_back(p);
@@ -426,17 +516,33 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
   b.landing.build(landing_zone, max_distance, b.mirrored);
   b.candidates.clear();
   std::size_t seen_in_their_directions = 0;
+  Eigen::AlignedBox3f grown_landing_zone = landing_zone;
+  grown_landing_zone.min().array() -= kBlockSlack;
+  grown_landing_zone.max().array() += kBlockSlack;
   for (std::size_t k = 0; k < 2; ++k)
   {
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    for (std::size_t i = 0; i < beams; ++i)
     {
+      // Blocks with no point in front of the plane, or, once enough points were seen in the
+      // phantoms' directions, none in the landing box, hold nothing for this loop.
+      if (blocked && i % kBlockBeams == 0)
+      {
+        const Eigen::AlignedBox3f& box = b.block_boxes[k][i / kBlockBeams];
+        if (box.isEmpty() || maxSide(box, normal, plane_offset) < plane_threshold - kBlockSlack ||
+            (seen_in_their_directions >= min_points && !box.intersects(grown_landing_zone)))
+        {
+          i += kBlockBeams - 1;
+          continue;
+        }
+      }
       const Label label = labels.echoes[k][i];
       if ((label != Label::unchecked && label != Label::valid) || isRepeatedReturn(sweep, k, i))
         continue;
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-      if (!(object.signedDistance(p) > plane_threshold))
+      if (!(cone.side(p) > plane_threshold))
         continue;
-      if (inTheirDirections(p - sweep.origin))
+      // Only whether there are icp_min_points matters.
+      if (seen_in_their_directions < min_points && inTheirDirections(p - sweep.origin))
         ++seen_in_their_directions;
       if (landing_zone.contains(p) && b.landing.contains(p))
         b.candidates.push_back(p);
@@ -461,9 +567,17 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
   }
   b.grid.build(b.real, max_distance);
 
-  evidence.icp_converged = b.registerMirrored(evidence.icp_correction);
+  // Shares of the sample within max_distance of a real point before ICP, and after it.
+  double unused = 0.0;
+  const float fraction_before_icp = static_cast<float>(b.countMatches(b.mirrored, unused)) / samples;
+  const float min_fraction = static_cast<float>(params.icp_min_inlier_fraction);
+  // Once ICP has moved the phantoms further than a mirror's may move, the object is no
+  // mirror; if enough of them matched before ICP it is no glass either, and nothing ICP does
+  // next can change that: it may stop there (on scenes where it slides along a floor, most of
+  // its iterations).
+  const bool may_stop_when_too_far = !(fraction_before_icp < kGlassFractionOfRequired * min_fraction);
+  evidence.icp_converged = b.registerMirrored(may_stop_when_too_far, max_distance, evidence.icp_correction);
 
-  // Shares of the sample: within max_distance of a real point after ICP, and before it.
   double squared_sum = 0.0;
   const std::size_t matched = b.countMatches(b.aligned, squared_sum);
   evidence.inlier_fraction = static_cast<float>(matched) / static_cast<float>(samples);
@@ -471,14 +585,10 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
       static_cast<std::size_t>(std::lround(static_cast<double>(evidence.inlier_fraction) * total));
   evidence.icp_fitness =
       matched > 0 ? static_cast<float>(squared_sum / matched) : std::numeric_limits<float>::infinity();
-  double unused = 0.0;
-  const float fraction_before_icp = static_cast<float>(b.countMatches(b.mirrored, unused)) / samples;
-
   const Eigen::Affine3f correction(evidence.icp_correction);
   const float correction_angle = Eigen::AngleAxisf(correction.rotation()).angle();
   const bool small_correction =
       correction.translation().norm() <= max_distance && correction_angle <= kMaxCorrectionAngle;
-  const float min_fraction = static_cast<float>(params.icp_min_inlier_fraction);
   const bool fits = evidence.icp_converged && small_correction && evidence.inlier_fraction >= min_fraction &&
                     evidence.icp_fitness <= static_cast<float>(params.icp_fitness_threshold);
   if (fits)
@@ -493,7 +603,8 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
     object.type = ObjectType::glass;
 }
 
-bool ObjectTypeAnalyzer::Buffers::registerMirrored(Eigen::Matrix4f& correction)
+bool ObjectTypeAnalyzer::Buffers::registerMirrored(bool stop_when_too_far, float max_distance,
+                                                   Eigen::Matrix4f& correction)
 {
   correction.setIdentity();
   aligned = mirrored;
@@ -536,6 +647,13 @@ bool ObjectTypeAnalyzer::Buffers::registerMirrored(Eigen::Matrix4f& correction)
       break;
     }
     previous_mse = mse;
+    if (stop_when_too_far)
+    {
+      const Eigen::Affine3f total(correction);
+      if (total.translation().norm() > max_distance ||
+          Eigen::AngleAxisf(total.linear()).angle() > kMaxCorrectionAngle)
+        break;
+    }
   }
   // Reaching the iteration cap counts as converged, as in PCL.
   return converged;

@@ -44,6 +44,11 @@ public:
   // - unknown in between: ambiguous evidence is not turned into a confident call.
   void analyze(const Sweep& sweep, const Params& params, const SweepLabels& labels, ReflectiveObject& object);
 
+  // Optional, for speed: bounding boxes of blocks of 64 beams of this sweep, so that analyze()
+  // skips blocks that cannot hold a point it looks for (same result). Valid for this sweep
+  // object until its points change: call it again for every sweep (Pipeline does).
+  void beginSweep(const Sweep& sweep);
+
 private:
   struct Buffers;
   std::unique_ptr<Buffers> buffers_;
