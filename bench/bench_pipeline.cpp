@@ -1,12 +1,18 @@
 // Times core::Pipeline, single-threaded, on sweeps stored as simple binary files:
 //   int64 rows, int64 cols, then echo 1 and echo 2, each rows*cols x 4 float32 (x y z intensity;
-//   NaN x for no return). Usage: bench_pipeline [--repeats R] [--warmup W] [--budget S] FILE...
+//   NaN x for no return).
+// Usage: bench_pipeline [--repeats R] [--warmup W] [--budget S] [--baseline B] [--rss-sweeps M] FILE...
 // --budget: stop a file's measured runs early once they took S seconds (at least 5 runs).
+// --baseline: also time the PCL baseline (bench/pcl_baseline.h) B times per file (0: not).
+// --rss-sweeps: instead of timing, run M sweeps of each file through one pipeline and report
+//   the resident set (VmRSS) after 100 sweeps and after M.
 // Parameters: launch/rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours) for every file.
 // Prints one JSON line per file: per-stage and total median / p95 seconds per sweep, beams per
 // second (from the median total), and the process's peak RSS (VmHWM) after that file.
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -16,6 +22,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/pipeline.h"
+#include "pcl_baseline.h"
 
 namespace core = ohm_mirror_detector3d::core;
 
@@ -68,6 +75,14 @@ core::Params hokuyoParams()
   return p;
 }
 
+// CPU time of this thread [s]: unlike wall time, not stretched by other processes on the machine.
+double threadCpuSeconds()
+{
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 // Nearest-rank percentile of a copy of the samples.
 double percentile(std::vector<double> v, double q)
 {
@@ -79,14 +94,42 @@ double percentile(std::vector<double> v, double q)
   return v[rank - 1];
 }
 
-double peakRssMb()
+// A field of /proc/self/status in MB (VmHWM: peak resident set, VmRSS: current).
+double statusMb(const char* field)
 {
   std::ifstream status("/proc/self/status");
   std::string line;
+  const std::string prefix = std::string(field) + ":";
   while (std::getline(status, line))
-    if (line.rfind("VmHWM:", 0) == 0)
-      return std::strtod(line.c_str() + 6, nullptr) / 1024.0;  // kB
+    if (line.rfind(prefix, 0) == 0)
+      return std::strtod(line.c_str() + prefix.size(), nullptr) / 1024.0;  // kB
   return -1.0;
+}
+
+double peakRssMb()
+{
+  return statusMb("VmHWM");
+}
+
+// Resident set after 100 sweeps and after `sweeps` through one pipeline: buffers are reused,
+// so it must not grow.
+void measureRss(const std::string& file, const core::Sweep& sweep, int sweeps)
+{
+  core::Pipeline pipeline(hokuyoParams());
+  double after_100 = 0.0;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 1; i <= sweeps; ++i)
+  {
+    pipeline.process(sweep);
+    if (i == 100)
+      after_100 = statusMb("VmRSS");
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double after_all = statusMb("VmRSS");
+  std::printf("{\"file\": \"%s\", \"beams\": %zu, \"sweeps\": %d, \"rss_after_100_mb\": %.2f, "
+              "\"rss_after_all_mb\": %.2f, \"growth_mb\": %.2f, \"seconds\": %.1f}\n",
+              file.c_str(), sweep.beamCount(), sweeps, after_100, after_all, after_all - after_100, seconds);
+  std::fflush(stdout);
 }
 }  // namespace
 
@@ -95,6 +138,8 @@ int main(int argc, char** argv)
   int repeats = 20;
   int warmup = 2;
   double budget = 0.0;  // 0: no limit
+  int baseline_repeats = 0;
+  int rss_sweeps = 0;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i)
   {
@@ -105,12 +150,17 @@ int main(int argc, char** argv)
       warmup = std::max(0, std::atoi(argv[++i]));
     else if (arg == "--budget" && i + 1 < argc)
       budget = std::atof(argv[++i]);
+    else if (arg == "--baseline" && i + 1 < argc)
+      baseline_repeats = std::max(0, std::atoi(argv[++i]));
+    else if (arg == "--rss-sweeps" && i + 1 < argc)
+      rss_sweeps = std::max(100, std::atoi(argv[++i]));
     else
       files.push_back(arg);
   }
   if (files.empty())
   {
-    std::cerr << "usage: bench_pipeline [--repeats R] [--warmup W] [--budget S] FILE...\n";
+    std::cerr << "usage: bench_pipeline [--repeats R] [--warmup W] [--budget S] [--baseline B] [--rss-sweeps M] "
+                 "FILE...\n";
     return 2;
   }
   try
@@ -118,6 +168,11 @@ int main(int argc, char** argv)
     for (const std::string& file : files)
     {
       const core::Sweep sweep = readSweep(file);
+      if (rss_sweeps > 0)
+      {
+        measureRss(file, sweep, rss_sweeps);
+        continue;
+      }
       core::Pipeline pipeline(hokuyoParams());
       for (int i = 0; i < warmup; ++i)
         pipeline.process(sweep);
@@ -125,11 +180,15 @@ int main(int argc, char** argv)
                               "type_analysis", "cone_labelling", "cleaned_output",  "total" };
       std::vector<std::vector<double>> samples(8);
       std::size_t objects = 0, cleaned = 0;
+      std::string types;
+      std::vector<double> cpu;
       int runs = 0;
       double spent = 0.0;
       for (; runs < repeats && !(budget > 0.0 && runs >= 5 && spent > budget); ++runs)
       {
+        const double cpu_start = threadCpuSeconds();
         const core::PipelineResult& r = pipeline.process(sweep);
+        cpu.push_back(threadCpuSeconds() - cpu_start);
         const core::StageTimes& t = r.times;
         const double values[] = { t.range_gate,    t.outlier_filter, t.echo_comparison, t.object_extraction,
                                   t.type_analysis, t.cone_labelling, t.cleaned_output,  t.total };
@@ -137,18 +196,45 @@ int main(int argc, char** argv)
           samples[s].push_back(values[s]);
         spent += t.total;
         objects = r.objects.size();
+        types.clear();
+        for (const core::ReflectiveObject& object : r.objects)
+          types += std::string(types.empty() ? "\"" : ", \"") + core::objectTypeName(object.type) + "\"";
         cleaned = r.cleaned.size();
       }
       const double median_total = percentile(samples[7], 0.5);
       std::printf("{\"file\": \"%s\", \"rows\": %zu, \"cols\": %zu, \"beams\": %zu, \"repeats\": %d, "
-                  "\"objects\": %zu, \"cleaned_points\": %zu, \"beams_per_s\": %.1f, \"peak_rss_mb\": %.1f, "
+                  "\"objects\": %zu, \"types\": [%s], \"cleaned_points\": %zu, \"beams_per_s\": %.1f, \"cpu_median_s\": %.6g, \"peak_rss_mb\": %.1f, "
                   "\"stages\": {",
-                  file.c_str(), sweep.rows, sweep.cols, sweep.beamCount(), runs, objects, cleaned,
-                  median_total > 0 ? static_cast<double>(sweep.beamCount()) / median_total : 0.0, peakRssMb());
+                  file.c_str(), sweep.rows, sweep.cols, sweep.beamCount(), runs, objects, types.c_str(), cleaned,
+                  median_total > 0 ? static_cast<double>(sweep.beamCount()) / median_total : 0.0, percentile(cpu, 0.5),
+                  peakRssMb());
       for (int s = 0; s < 8; ++s)
         std::printf("%s\"%s\": {\"median_s\": %.6g, \"p95_s\": %.6g}", s ? ", " : "", names[s],
                     percentile(samples[s], 0.5), percentile(samples[s], 0.95));
-      std::printf("}}\n");
+      std::printf("}");
+      if (baseline_repeats > 0)
+      {
+        // The PCL baseline (bench/pcl_baseline.h) on the same sweep, right after ours.
+        const char* baseline_names[] = { "outlier_filter", "echo_comparison", "planes", "icp", "total" };
+        std::vector<std::vector<double>> baseline(5);
+        std::size_t planes = 0;
+        for (int run = 0; run < baseline_repeats; ++run)
+        {
+          const BaselineTimes b = runPclBaseline(sweep, hokuyoParams());
+          const double values[] = { b.outlier_filter, b.echo_comparison, b.planes, b.icp, b.total };
+          for (int s = 0; s < 5; ++s)
+            baseline[s].push_back(values[s]);
+          planes = b.planes_found;
+        }
+        const double baseline_total = percentile(baseline[4], 0.5);
+        std::printf(", \"baseline\": {\"repeats\": %d, \"planes\": %zu, \"speedup\": %.2f, \"stages\": {",
+                    baseline_repeats, planes, median_total > 0 ? baseline_total / median_total : 0.0);
+        for (int s = 0; s < 5; ++s)
+          std::printf("%s\"%s\": {\"median_s\": %.6g}", s ? ", " : "", baseline_names[s],
+                      percentile(baseline[s], 0.5));
+        std::printf("}, \"peak_rss_mb\": %.1f}", peakRssMb());
+      }
+      std::printf("}\n");
       std::fflush(stdout);
     }
   }

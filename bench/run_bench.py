@@ -6,7 +6,11 @@ for `empty_room` (no reflective object) and `two_mirrors_and_glass`; seed 0, ran
 size uses the parameters of launch/rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours).
 The sweeps go to a temporary directory as binary files (int64 rows, cols; echo 1 and echo 2 as N x 4
 float32 x y z intensity) and bench_pipeline times each one in a process of its own (so that peak RSS is
-per sweep). Prints a Markdown table and writes the JSON (default bench/results.json).
+per sweep). In the same process, right after ours, the PCL baseline (bench/pcl_baseline.cpp: the same
+stages with PCL's generic tools) is timed on the same sweep, with few repeats because it is slow (--baseline-repeats;
+1 at the big sizes), and the ratio baseline/ours is reported. Then the resident set after 100 and after 10,000 sweeps
+of 1080 x 100 with objects through one pipeline (--rss-sweeps). Prints Markdown tables and writes the JSON (default
+bench/results.json).
 """
 import argparse
 import json
@@ -60,19 +64,24 @@ def machine():
     except OSError:
         pass
     return {'cpu_model': model, 'nproc': os.cpu_count(), 'usable_cores': len(os.sched_getaffinity(0)),
-            'kernel': platform.release(), 'python': platform.python_version()}
+            'kernel': platform.release(), 'python': platform.python_version(),
+            'load_average': ' '.join('%.1f' % v for v in os.getloadavg())}
 
 
 def table(results):
-    head = ['size', 'scene', 'beams', 'objects', 'total median ms', 'total p95 ms', 'Mbeams/s'] + \
-           ['%s ms' % SHORT[s] for s in STAGES] + ['peak RSS MB']
+    head = ['size', 'scene', 'beams', 'objects', 'total median ms', 'total p95 ms', 'CPU median ms', 'Mbeams/s'] + \
+           ['%s ms' % SHORT[s] for s in STAGES] + ['peak RSS MB', 'PCL baseline ms (runs)', 'speed-up']
     lines = ['| ' + ' | '.join(head) + ' |', '|' + '---|' * len(head)]
     for r in results:
         st = r['stages']
         row = [r['size'], r['scene'], str(r['beams']), str(r['objects']),
                '%.1f' % (1e3 * st['total']['median_s']), '%.1f' % (1e3 * st['total']['p95_s']),
+               '%.1f' % (1e3 * r['cpu_median_s']),
                '%.2f' % (r['beams_per_s'] / 1e6)] + ['%.1f' % (1e3 * st[s]['median_s']) for s in STAGES] + \
               ['%.0f' % r['peak_rss_mb']]
+        b = r.get('baseline')
+        row += ['%.0f (%d)' % (1e3 * b['stages']['total']['median_s'], b['repeats']), '%.0fx' % b['speedup']] \
+            if b else ['–', '–']
         lines.append('| ' + ' | '.join(row) + ' |')
     return '\n'.join(lines)
 
@@ -99,9 +108,18 @@ def main():
     ap.add_argument('--budget', type=float, default=30.0,
                     help='seconds of measured runs per sweep after which fewer repeats (>= 5) suffice')
     ap.add_argument('--sizes', nargs='*', help='subset of sizes, e.g. 1080x100')
+    ap.add_argument('--baseline-repeats', type=int, default=3,
+                    help='runs of the PCL baseline per sweep at 1080x100 (1 at the bigger sizes; 0: no baseline)')
+    ap.add_argument('--rss-sweeps', type=int, default=10000,
+                    help='sweeps of 1080x100 with objects for the memory check (0: skip)')
+    ap.add_argument('--latency-sweeps', type=int, default=30,
+                    help='sweeps through the real nodelet for bench/nodelet_latency.py (0: skip; needs the '
+                         'workspace sourced)')
     args = ap.parse_args()
 
     results = []
+    rss = None
+    rss_path = None
     with tempfile.TemporaryDirectory(prefix='ohm_bench_') as tmp:
         for size, scanner in scanners():
             if args.sizes and size not in args.sizes:
@@ -113,17 +131,37 @@ def main():
                 write_sweep(path, sweep)
                 del sweep
                 simulated = time.perf_counter() - started
+                baseline = args.baseline_repeats if size == '1080x100' else min(args.baseline_repeats, 1)
                 out = subprocess.run([args.binary, '--repeats', str(args.repeats), '--warmup', str(args.warmup),
-                                      '--budget', str(args.budget), path],
+                                      '--budget', str(args.budget), '--baseline', str(baseline), path],
                                      check=True, stdout=subprocess.PIPE, universal_newlines=True).stdout
                 r = json.loads(out.strip().splitlines()[-1])
                 r.update(size=size, scene=scene, scanner=scanner.name, simulation_s=round(simulated, 2))
                 del r['file']
-                os.remove(path)
+                if size == '1080x100' and scene == 'two_mirrors_and_glass' and args.rss_sweeps > 0:
+                    rss_path = path
+                else:
+                    os.remove(path)
                 results.append(r)
                 print('%s %s: %d runs, median %.1f ms (simulated in %.1f s)'
                       % (size, scene, r['repeats'], 1e3 * r['stages']['total']['median_s'], simulated),
                       file=sys.stderr, flush=True)
+        if rss_path:
+            print('memory: %d sweeps of 1080x100 two_mirrors_and_glass ...' % args.rss_sweeps, file=sys.stderr, flush=True)
+            out = subprocess.run([args.binary, '--rss-sweeps', str(args.rss_sweeps), rss_path], check=True,
+                                 stdout=subprocess.PIPE, universal_newlines=True).stdout
+            rss = json.loads(out.strip().splitlines()[-1])
+            del rss['file']
+            rss.update(size='1080x100', scene='two_mirrors_and_glass', within_1mb=abs(rss['growth_mb']) <= 1.0)
+
+    latency = None
+    if args.latency_sweeps > 0:
+        print('nodelet latency: %d sweeps through a nodelet manager ...' % args.latency_sweeps, file=sys.stderr,
+              flush=True)
+        out = subprocess.run([sys.executable, os.path.join(HERE, 'nodelet_latency.py'), '--sweeps',
+                              str(args.latency_sweeps)], check=True, stdout=subprocess.PIPE,
+                             universal_newlines=True).stdout
+        latency = json.loads(out.strip().splitlines()[-1])
 
     report = {
         'machine': machine(),
@@ -134,19 +172,39 @@ def main():
                      'timed': 'core::Pipeline::process only (no ROS, no conversion, no file I/O)'},
         'results': results,
         'growth': growth(results),
+        'baseline': {'what': 'bench/pcl_baseline.cpp: pcl::RadiusOutlierRemoval (kd-tree) on every in-range point '
+                             'of both echoes, pcl::SACSegmentation RANSAC planes on all candidates, '
+                             'pcl::IterativeClosestPoint (30 iterations) of the mirrored points behind each plane '
+                             'against the whole scene in front of it; same parameters, same sweep, same process',
+                     'repeats': 'median of %d runs at 1080x100, %d run(s) at the bigger sizes (it is slow)'
+                                % (args.baseline_repeats, min(args.baseline_repeats, 1))},
+        'memory': rss,
+        'nodelet_latency': latency,
     }
     with open(args.output, 'w') as f:
         json.dump(report, f, indent=1)
 
     m = report['machine']
-    print('Machine: %s, %d cores (nproc), single-threaded run. Parameters: rotating_hokuyo_params.yaml '
-          '(outlier radius 0.2 m, 5 neighbours) for all sizes.\n' % (m['cpu_model'], m['nproc']))
+    print('Machine: %s, %d cores (nproc), load average %s at the start, single-threaded run. Parameters: '
+          'rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours) for all sizes. Times are wall-clock '
+          '(steady_clock) medians; CPU = the thread\'s CPU time, less sensitive to other load on the machine. PCL '
+          'baseline: median of %d run(s) at 1080x100, 1 run at the bigger sizes (it is slow).\n'
+          % (m['cpu_model'], m['nproc'], m['load_average'], args.baseline_repeats))
     print(table(results))
     print('\nGrowth (median time per beam, RotatingHokuyo 1080 x R; exponent k of t ~ N^k):\n')
     for scene, g in report['growth'].items():
         print('- %s: %s us/beam at %s beams, k = %.2f'
               % (scene, ' / '.join('%.3f' % v for v in g['us_per_beam']), ' / '.join(map(str, g['beams'])),
                  g['exponent']))
+    if rss:
+        print('\nMemory: resident set %.2f MB after 100 sweeps, %.2f MB after %d sweeps (%+.2f MB, %s) of %s %s.'
+              % (rss['rss_after_100_mb'], rss['rss_after_all_mb'], rss['sweeps'], rss['growth_mb'],
+                 'within 1 MB' if rss['within_1mb'] else 'MORE than 1 MB', rss['size'], rss['scene']))
+    if latency:
+        print('\nNodelet latency (%s through the real nodelet in a nodelet manager, %d sweeps, medians): core %.1f ms; '
+              'input stamp -> `cleaned` published %.1f ms = %.2f x core (target <= 1.2); -> received by a Python '
+              'subscriber %.1f ms.' % (latency['sweep'], latency['sweeps'], latency['core_ms'],
+                                       latency['in_nodelet_ms'], latency['ratio'], latency['received_ms']))
     print('\nJSON: %s' % args.output)
 
 

@@ -50,6 +50,10 @@ void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<Re
 
   const float plane_threshold = static_cast<float>(params.plane_threshold);
   const float margin = static_cast<float>(params.vision_cone_margin);
+  std::vector<VisionCone> cones;
+  cones.reserve(objects.size());
+  for (const ReflectiveObject& object : objects)
+    cones.emplace_back(object, sweep.origin, plane_threshold, margin);
   for (std::size_t k = 0; k < 2; ++k)
   {
     const EchoCloud& echo = sweep.echoes[k];
@@ -63,7 +67,7 @@ void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<Re
       nearest_hit.plane_range = std::numeric_limits<float>::infinity();
       for (std::size_t j = 0; j < objects.size(); ++j)
       {
-        const ConeHit hit = locateInCone(objects[j], sweep.origin, echo.points[i], plane_threshold, margin);
+        const ConeHit hit = cones[j].locate(echo.points[i]);
         const bool affected = hit.relation == ConeRelation::onSurface || hit.relation == ConeRelation::behind;
         if (affected && hit.plane_range < nearest_hit.plane_range)
         {

@@ -67,6 +67,8 @@ const PipelineResult& Pipeline::process(const Sweep& sweep)
     r.times.outlier_filter += lap(t);
     object_extractor_.extract(sweep, params_, r.labels, r.objects);
     r.times.object_extraction = lap(t);
+    if (!r.objects.empty())
+      type_analyzer_.beginSweep(sweep);
     for (ReflectiveObject& object : r.objects)
       type_analyzer_.analyze(sweep, params_, r.labels, object);
     r.times.type_analysis = lap(t);

@@ -1,6 +1,7 @@
 #include "ohm_mirror_detector3d/ros/prefilter_nodelet.h"
 
 #include <pluginlib/class_list_macros.hpp>
+#include <std_msgs/Float64MultiArray.h>
 
 #include <algorithm>
 #include <chrono>
@@ -127,6 +128,8 @@ void PreFilterNodelet::advertiseOutputs()
                                                       on_connection, on_connection);
   markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>(topicName(pnh, "markers", { "pub_markers" }), 1,
                                                                 on_connection, on_connection);
+  // Not an output: subscribing to it alone does not start the pre-filter.
+  timing_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("timing", 10);
 }
 
 void PreFilterNodelet::startDiagnostics()
@@ -362,6 +365,19 @@ void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
     labelled_pub_.publish(outputs.labelled);
   if (outputs.cleaned)
     cleaned_pub_.publish(outputs.cleaned);
+  if (timing_pub_.getNumSubscribers() > 0)
+  {
+    // For make bench (bench/nodelet_latency.py): the core's time and the age of the input
+    // stamp when `cleaned` was published, both in seconds.
+    const double age = (ros::Time::now() - header.stamp).toSec();
+    std_msgs::Float64MultiArray timing;
+    timing.layout.dim.resize(1);
+    timing.layout.dim[0].label = "core_s,stamp_to_cleaned_published_s";
+    timing.layout.dim[0].size = 2;
+    timing.layout.dim[0].stride = 2;
+    timing.data = { result.times.total, age };
+    timing_pub_.publish(timing);
+  }
   if (outputs.objects)
     objects_pub_.publish(outputs.objects);
   if (outputs.markers)

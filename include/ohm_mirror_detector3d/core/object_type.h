@@ -24,7 +24,11 @@ public:
   // excluded) across its plane and registers them by ICP (max correspondence distance
   // icp_max_distance) to the real points in front of the plane near where they land
   // (labels unchecked or valid; error and errorSurface points are echoes of this or
-  // another surface, not real geometry). Sets object.type and object.evidence:
+  // another surface, not real geometry). For speed (see object_type.cpp) the registered
+  // points are an even, deterministic sample of at most 512 of them, and the real scene is
+  // taken only near where that sample lands, one point per 2 cm voxel; the shares and means
+  // below are the sample's, matched_points is the sample's share times mirrored_points.
+  // Sets object.type and object.evidence:
   // - unknown when fewer than icp_min_points points are behind it, or when the sensor saw
   //   fewer than that many real points in the directions where the mirrored points land
   //   (nothing to compare with, e.g. a mirror facing open space: no confident decision);
@@ -39,6 +43,11 @@ public:
   //   or other geometry);
   // - unknown in between: ambiguous evidence is not turned into a confident call.
   void analyze(const Sweep& sweep, const Params& params, const SweepLabels& labels, ReflectiveObject& object);
+
+  // Optional, for speed: bounding boxes of blocks of 64 beams of this sweep, so that analyze()
+  // skips blocks that cannot hold a point it looks for (same result). Valid for this sweep
+  // object until its points change: call it again for every sweep (Pipeline does).
+  void beginSweep(const Sweep& sweep);
 
 private:
   struct Buffers;

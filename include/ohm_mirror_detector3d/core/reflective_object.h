@@ -27,6 +27,7 @@ struct TypeEvidence
 {
   std::size_t mirrored_points = 0;  // points behind the plane reflected across it
   std::size_t matched_points = 0;   // of those, within icp_max_distance of the real scene after ICP
+                                    // (estimated on a sample of at most 512 of them)
   float inlier_fraction = std::numeric_limits<float>::quiet_NaN();
   float icp_fitness = std::numeric_limits<float>::quiet_NaN();  // mean squared distance of matches [m^2]
   bool icp_converged = false;

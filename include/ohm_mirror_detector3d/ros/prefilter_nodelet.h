@@ -64,6 +64,7 @@ private:
   ros::Publisher cleaned_pub_;
   ros::Publisher objects_pub_;
   ros::Publisher markers_pub_;
+  ros::Publisher timing_pub_;  // ~timing, for make bench: see processAndPublish
 
   std::mutex subscription_mutex_;
   bool subscribed_ = false;

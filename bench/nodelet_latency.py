@@ -1,0 +1,156 @@
+#!/usr/bin/python3
+"""`make bench`, part 2: end-to-end latency of the real nodelet in a real nodelet manager.
+
+Starts its own master (roslaunch on a free port) with a nodelet manager and the pre-filter nodelet
+(launch/rotating_hokuyo_params.yaml, input_mode pair), publishes simulated sweeps (RotatingHokuyo
+1080 x SCANS, two_mirrors_and_glass, noise 0.01 m) as EchoPair with header.stamp = now, subscribes to
+`cleaned` and to the nodelet's `timing` topic, and reports medians of:
+- core: core::Pipeline::process as timed inside the nodelet;
+- in-nodelet: input stamp -> `cleaned` published, as seen by the nodelet (includes this script's
+  serialisation and the TCP transfer of the input, the conversion to a Sweep, the core, the
+  conversion to PointCloud2 and the publish call);
+- received: input stamp -> `cleaned` received by this (Python) subscriber, which adds the transfer
+  of the output and rospy's deserialisation.
+The ratio in-nodelet / core is the issue's target (<= 1.2). Prints a table, one JSON line last.
+"""
+import argparse
+import json
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+LAUNCH = """<launch>
+  <node pkg="nodelet" type="nodelet" name="manager" args="manager"/>
+  <node pkg="nodelet" type="nodelet" name="prefilter" args="load ohm_mirror_detector3d/PreFilterNodelet manager">
+    <rosparam command="load" file="%s"/>
+  </node>
+</launch>
+"""
+
+
+def free_port():
+    s = socket.socket()
+    s.bind(('127.0.0.1', 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--scans', type=int, default=100, help='scans of the simulated 1080 x SCANS sweep')
+    ap.add_argument('--sweeps', type=int, default=30)
+    ap.add_argument('--warmup', type=int, default=3)
+    ap.add_argument('--output', help='also write the JSON here')
+    args = ap.parse_args()
+
+    port = free_port()
+    os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % port
+    params = os.path.join(HERE, '..', 'launch', 'rotating_hokuyo_params.yaml')
+    with tempfile.NamedTemporaryFile('w', suffix='.launch', delete=False) as f:
+        f.write(LAUNCH % os.path.abspath(params))
+        launch_file = f.name
+    launch = subprocess.Popen(['roslaunch', '-p', str(port), launch_file], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL)
+    try:
+        result = measure(args)
+    finally:
+        launch.terminate()
+        try:
+            launch.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            launch.kill()
+        os.remove(launch_file)
+    print('Nodelet latency (%s, %d sweeps, medians): core %.1f ms, input stamp -> cleaned published (in the '
+          'nodelet) %.1f ms = %.2f x core, -> received by a Python subscriber %.1f ms'
+          % (result['sweep'], result['sweeps'], result['core_ms'], result['in_nodelet_ms'], result['ratio'],
+             result['received_ms']), file=sys.stderr)
+    print(json.dumps(result))
+    if args.output:
+        with open(args.output, 'w') as f:
+            json.dump(result, f, indent=1)
+
+
+def measure(args):
+    import rospy
+    from sensor_msgs.msg import PointCloud2
+    from std_msgs.msg import Float64MultiArray
+
+    from ohm_mirror_detector3d.msg import EchoPair
+    from ohm_mirror_detector3d.ros_io import sweep_to_messages
+    from ohm_mirror_detector3d.scanner import RotatingHokuyo
+    from ohm_mirror_detector3d.simulate import SweepSimulator
+
+    deadline = time.time() + 60
+    while True:
+        try:
+            rospy.get_master().getSystemState()
+            break
+        except Exception:  # the master is not up yet
+            if time.time() > deadline:
+                raise RuntimeError('no ROS master on %s' % os.environ['ROS_MASTER_URI'])
+            time.sleep(0.2)
+    rospy.init_node('nodelet_latency', disable_signals=True)
+    sweep = SweepSimulator('two_mirrors_and_glass', RotatingHokuyo(scans=args.scans, range_noise=0.01)).sweep(
+        seed=0, noise=0.01)
+    pair = sweep_to_messages(sweep, rospy.Time.now())['echo_pair']
+
+    lock = threading.Condition()
+    received = {}
+    timings = {}
+
+    def on_cleaned(msg):
+        now = rospy.Time.now()
+        with lock:
+            received[msg.header.stamp] = (now - msg.header.stamp).to_sec()
+            lock.notify_all()
+
+    def on_timing(msg):
+        with lock:
+            timings[len(timings)] = tuple(msg.data)
+            lock.notify_all()
+
+    rospy.Subscriber('/prefilter/cleaned', PointCloud2, on_cleaned, queue_size=5, buff_size=1 << 26)
+    rospy.Subscriber('/prefilter/timing', Float64MultiArray, on_timing, queue_size=50)
+    publisher = rospy.Publisher('/prefilter/input', EchoPair, queue_size=1)
+    deadline = time.time() + 60
+    while publisher.get_num_connections() == 0 and time.time() < deadline:
+        time.sleep(0.1)
+    time.sleep(1.0)  # the timing subscription connects too
+
+    core, in_nodelet, latency = [], [], []
+    for i in range(args.warmup + args.sweeps):
+        with lock:
+            before = len(timings)
+        pair.header.stamp = rospy.Time.now()
+        pair.echo1.header.stamp = pair.echo2.header.stamp = pair.header.stamp
+        publisher.publish(pair)
+        with lock:
+            ok = lock.wait_for(lambda: pair.header.stamp in received and len(timings) > before, timeout=30)
+        if not ok:
+            raise RuntimeError('no cleaned/timing answer from the nodelet for sweep %d' % i)
+        if i >= args.warmup:
+            with lock:
+                core.append(timings[before][0])
+                in_nodelet.append(timings[before][1])
+                latency.append(received[pair.header.stamp])
+        time.sleep(0.2)
+    rospy.signal_shutdown('done')
+    core_ms = 1e3 * float(np.median(core))
+    in_nodelet_ms = 1e3 * float(np.median(in_nodelet))
+    return {'sweep': '1080x%d two_mirrors_and_glass' % args.scans, 'beams': 1080 * args.scans,
+            'sweeps': args.sweeps, 'core_ms': round(core_ms, 2), 'in_nodelet_ms': round(in_nodelet_ms, 2),
+            'ratio': round(in_nodelet_ms / core_ms, 3), 'received_ms': round(1e3 * float(np.median(latency)), 2),
+            'in_nodelet_p95_ms': round(1e3 * float(np.percentile(in_nodelet, 95)), 2)}
+
+
+if __name__ == '__main__':
+    main()
