@@ -9,9 +9,14 @@ package_dir=$1
 junit=$2
 mkdir -p "$(dirname "$junit")"
 # The package folder's name must be the package's name (catkin_lint's package_path_name check):
-# CMake passes the workspace's src/ohm_mirror_detector3d, not the repository's folder.
+# CMake passes the workspace's src/ohm_mirror_detector3d, not the repository's folder. That folder
+# is made of links to the repository's entries, and catkin_lint does not walk into linked folders
+# (it would not see, say, an executable script under bench/): it checks a real copy instead.
 if command -v catkin_lint > /dev/null; then
-  output=$(catkin_lint -W2 --strict "$package_dir" 2>&1)
+  copy=$(mktemp -d)
+  trap 'rm -rf "$copy"' EXIT
+  cp -rL "$package_dir" "$copy/$(basename "$package_dir")"
+  output=$(catkin_lint -W2 --strict "$copy/$(basename "$package_dir")" 2>&1)
   status=$?
 else
   output="catkin_lint is not installed: apt-get install catkin-lint (rosdep key python3-catkin-lint)"
