@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 
 namespace ohm_mirror_detector3d
@@ -206,22 +207,15 @@ void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<Re
       if (!objects.empty())
       {
         // Box of the block's points that get labelled here; a non-finite one tests every cone.
-        Eigen::Vector3f low = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity());
-        Eigen::Vector3f high = -low;
-        bool finite = true;
-        bool any = false;
-        for (std::size_t i = block; i < block_end; ++i)
-        {
-          if (labels.echoes[k][i] == Label::nanPoint)
-            continue;
-          const Eigen::Vector3f& p = echo.points[i];
-          finite = finite && p.allFinite();
-          low = low.cwiseMin(p);
-          high = high.cwiseMax(p);
-          any = true;
-        }
+        const Label* echo_labels = labels.echoes[k].data();
+        const BlockBox block_box = blockBox(echo.points.data(), block, block_end, [echo_labels](std::size_t i) {
+          return echo_labels[i] != Label::nanPoint;
+        });
+        const bool any = block_box.any_non_finite || !block_box.box.isEmpty();
+        const Eigen::Vector3d low = block_box.box.min().cast<double>();
+        const Eigen::Vector3d high = block_box.box.max().cast<double>();
         for (std::size_t j = 0; j < objects.size(); ++j)
-          if (any && (!finite || bounds[j].mayAffect(low.cast<double>(), high.cast<double>())))
+          if (any && (block_box.any_non_finite || bounds[j].mayAffect(low, high)))
             reachable.push_back(j);
       }
       labelBlock(echo, block, block_end, reachable, cones, objects, labels.echoes[k], assignment.echoes[k],
