@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include "ohm_mirror_detector3d/core/min_area_rectangle.h"
 
@@ -102,7 +103,11 @@ public:
   {
   }
 
-  std::size_t countWithinDistance(const Eigen::VectorXf& model_coefficients, const double threshold) const override
+  // The base's own return type (std::size_t in the PCL versions we build with).
+  using Count = decltype(std::declval<const pcl::SampleConsensusModelPlane<pcl::PointXYZ>&>().countWithinDistance(
+      std::declval<const Eigen::VectorXf&>(), 0.0));
+
+  Count countWithinDistance(const Eigen::VectorXf& model_coefficients, const double threshold) const override
   {
     if (!isModelValid(model_coefficients) || xs_.size() != indices_->size())
       return pcl::SampleConsensusModelPlane<pcl::PointXYZ>::countWithinDistance(model_coefficients, threshold);
@@ -125,7 +130,7 @@ public:
       const float distance = (a * x[i] + c * z[i]) + (b * y[i] + d * 1.0f);
       count += std::fabs(distance) < limit ? 1u : 0u;
     }
-    return count;
+    return static_cast<Count>(count);
   }
 
 private:
