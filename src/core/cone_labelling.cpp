@@ -1,8 +1,11 @@
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 
 namespace ohm_mirror_detector3d
@@ -30,6 +33,138 @@ Label behindLabel(ObjectType type)
     default: return Label::behindErrorS;
   }
 }
+// Beams per block for the block test below: consecutive beams of one scan line lie close
+// together, so a block's bounding box stays small, and 64 beams amortise the box tests.
+constexpr std::size_t kBlockBeams = 64;
+
+// Conservative whole-block test for one object's vision cone: tells when no point inside an
+// axis-aligned box can be on the surface of the object or behind it, so that the points of
+// a block of beams need not be tested one by one. Whatever a point's exact test would
+// answer, a box judged unaffected here holds no point the exact test calls onSurface or
+// behind: the box must lie wholly in front of the surface band, or wholly outside one side
+// face of the cone through a rectangle grown by a margin far larger than float rounding.
+// Anything uncertain (sensor near the plane, non-finite numbers) is never culled.
+class ConeBounds
+{
+public:
+  ConeBounds(const ReflectiveObject& object, const Eigen::Vector3f& origin, float plane_threshold, float margin)
+    : origin_(origin.cast<double>())
+    , normal_(object.plane.head<3>().cast<double>())
+    , offset_(object.plane[3])
+  {
+    const double origin_side = normal_.dot(origin_) + offset_;
+    const Eigen::Vector3d centre = object.centre.cast<double>();
+    const Eigen::Vector3d w = object.width_axis.cast<double>();
+    const Eigen::Vector3d h = object.height_axis.cast<double>();
+    // Rounding of the per-point test is of the order of 1e-6 of the coordinates; the grow
+    // and band margins are a thousand times that.
+    const double scale = (centre - origin_).norm() + object.width + object.height + std::fabs(offset_) +
+                         origin_.cwiseAbs().maxCoeff() + centre.cwiseAbs().maxCoeff() + 1.0;
+    const double grow = 1e-3 * scale;
+    band_ = static_cast<double>(plane_threshold) + grow;
+    // The per-point test extends the ray from the origin to the plane by origin_side /
+    // (origin_side - point_side); with the sensor well outside the band that factor stays
+    // below 2 for every point it judges, so its rounding stays small.
+    usable_ = std::isfinite(scale) && origin_side > 2.0 * band_;
+    // Far points make the per-point side and crossing less precise (relative to the sensor's
+    // distance from the plane); boxes reaching further than this are not culled.
+    reach_ = std::min(100.0 * origin_side, 100.0 * scale);
+    if (!usable_)
+      return;
+    const double half_w = 0.5 * object.width + margin + grow;
+    const double half_h = 0.5 * object.height + margin + grow;
+    const std::array<Eigen::Vector3d, 4> corners = { centre - half_w * w - half_h * h, centre + half_w * w - half_h * h,
+                                                     centre + half_w * w + half_h * h,
+                                                     centre - half_w * w + half_h * h };
+    for (std::size_t k = 0; k < 4; ++k)
+    {
+      // Face through the origin and one edge of the grown rectangle, normal towards the
+      // inside of the cone.
+      Eigen::Vector3d face = (corners[k] - origin_).cross(corners[(k + 1) % 4] - origin_);
+      if (face.dot(centre - origin_) < 0.0)
+        face = -face;
+      faces_[k] = face;
+      usable_ = usable_ && face.allFinite();
+    }
+  }
+
+  // False when no point of the box [low, high] can be on or behind the object's surface.
+  bool mayAffect(const Eigen::Vector3d& low, const Eigen::Vector3d& high) const
+  {
+    if (!usable_ || low.cwiseAbs().maxCoeff() > reach_ || high.cwiseAbs().maxCoeff() > reach_)
+      return true;
+    const Eigen::Vector3d centre = 0.5 * (low + high);
+    const Eigen::Vector3d half = 0.5 * (high - low);
+    // Every point of the box in front of the surface band.
+    if (normal_.dot(centre) + offset_ - normal_.cwiseAbs().dot(half) > band_)
+      return false;
+    // Every point of the box outside one face of the (grown) cone.
+    for (const Eigen::Vector3d& face : faces_)
+      if (face.dot(centre - origin_) + face.cwiseAbs().dot(half) < 0.0)
+        return false;
+    return true;
+  }
+
+private:
+  Eigen::Vector3d origin_;
+  Eigen::Vector3d normal_;
+  double offset_;
+  double band_ = 0.0;
+  double reach_ = 0.0;
+  bool usable_ = false;
+  std::array<Eigen::Vector3d, 4> faces_;
+};
+
+// Labels the points of beams [block, block_end) of one echo, testing only the cones in
+// `reachable` (every other cone is known to miss the block).
+void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end, const std::vector<std::size_t>& reachable,
+                const std::vector<VisionCone>& cones, std::vector<ReflectiveObject>& objects,
+                std::vector<Label>& echo_labels, std::vector<std::int32_t>& echo_assignment,
+                std::vector<double>& intensity_sums, std::vector<std::size_t>& intensity_counts)
+{
+  for (std::size_t i = block; i < block_end; ++i)
+  {
+    Label& label = echo_labels[i];
+    if (label == Label::nanPoint)
+      continue;
+    std::int32_t nearest = ObjectAssignment::kNoObject;
+    ConeHit nearest_hit;
+    nearest_hit.plane_range = std::numeric_limits<float>::infinity();
+    for (const std::size_t j : reachable)
+    {
+      const ConeHit hit = cones[j].locate(echo.points[i]);
+      const bool affected = hit.relation == ConeRelation::onSurface || hit.relation == ConeRelation::behind;
+      if (affected && hit.plane_range < nearest_hit.plane_range)
+      {
+        nearest = static_cast<std::int32_t>(j);
+        nearest_hit = hit;
+      }
+    }
+    if (nearest == ObjectAssignment::kNoObject)
+    {
+      if (label != Label::error)
+        label = Label::valid;
+      continue;
+    }
+    ReflectiveObject& object = objects[static_cast<std::size_t>(nearest)];
+    echo_assignment[i] = nearest;
+    if (nearest_hit.relation == ConeRelation::onSurface)
+    {
+      label = surfaceLabel(object.type);
+      ++object.surface_points;
+      if (std::isfinite(echo.intensities[i]))
+      {
+        intensity_sums[static_cast<std::size_t>(nearest)] += echo.intensities[i];
+        ++intensity_counts[static_cast<std::size_t>(nearest)];
+      }
+    }
+    else
+    {
+      label = behindLabel(object.type);
+      ++object.behind_points;
+    }
+  }
+}
 }  // namespace
 
 void ObjectAssignment::reset(std::size_t beam_count)
@@ -54,50 +189,37 @@ void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<Re
   cones.reserve(objects.size());
   for (const ReflectiveObject& object : objects)
     cones.emplace_back(object, sweep.origin, plane_threshold, margin);
+  std::vector<ConeBounds> bounds;
+  bounds.reserve(objects.size());
+  for (const ReflectiveObject& object : objects)
+    bounds.emplace_back(object, sweep.origin, plane_threshold, margin);
+  // Objects whose cone the current block may reach, ascending (so that ties between cones
+  // resolve as if every cone were tested).
+  std::vector<std::size_t> reachable;
+  reachable.reserve(objects.size());
   for (std::size_t k = 0; k < 2; ++k)
   {
     const EchoCloud& echo = sweep.echoes[k];
-    for (std::size_t i = 0; i < beams; ++i)
+    for (std::size_t block = 0; block < beams; block += kBlockBeams)
     {
-      Label& label = labels.echoes[k][i];
-      if (label == Label::nanPoint)
-        continue;
-      std::int32_t nearest = ObjectAssignment::kNoObject;
-      ConeHit nearest_hit;
-      nearest_hit.plane_range = std::numeric_limits<float>::infinity();
-      for (std::size_t j = 0; j < objects.size(); ++j)
+      const std::size_t block_end = std::min(beams, block + kBlockBeams);
+      reachable.clear();
+      if (!objects.empty())
       {
-        const ConeHit hit = cones[j].locate(echo.points[i]);
-        const bool affected = hit.relation == ConeRelation::onSurface || hit.relation == ConeRelation::behind;
-        if (affected && hit.plane_range < nearest_hit.plane_range)
-        {
-          nearest = static_cast<std::int32_t>(j);
-          nearest_hit = hit;
-        }
+        // Box of the block's points that get labelled here; a non-finite one tests every cone.
+        const Label* echo_labels = labels.echoes[k].data();
+        const BlockBox block_box = blockBox(echo.points.data(), block, block_end, [echo_labels](std::size_t i) {
+          return echo_labels[i] != Label::nanPoint;
+        });
+        const bool any = block_box.any_non_finite || !block_box.box.isEmpty();
+        const Eigen::Vector3d low = block_box.box.min().cast<double>();
+        const Eigen::Vector3d high = block_box.box.max().cast<double>();
+        for (std::size_t j = 0; j < objects.size(); ++j)
+          if (any && (block_box.any_non_finite || bounds[j].mayAffect(low, high)))
+            reachable.push_back(j);
       }
-      if (nearest == ObjectAssignment::kNoObject)
-      {
-        if (label != Label::error)
-          label = Label::valid;
-        continue;
-      }
-      ReflectiveObject& object = objects[static_cast<std::size_t>(nearest)];
-      assignment.echoes[k][i] = nearest;
-      if (nearest_hit.relation == ConeRelation::onSurface)
-      {
-        label = surfaceLabel(object.type);
-        ++object.surface_points;
-        if (std::isfinite(echo.intensities[i]))
-        {
-          intensity_sums[static_cast<std::size_t>(nearest)] += echo.intensities[i];
-          ++intensity_counts[static_cast<std::size_t>(nearest)];
-        }
-      }
-      else
-      {
-        label = behindLabel(object.type);
-        ++object.behind_points;
-      }
+      labelBlock(echo, block, block_end, reachable, cones, objects, labels.echoes[k], assignment.echoes[k],
+                 intensity_sums, intensity_counts);
     }
   }
   for (std::size_t j = 0; j < objects.size(); ++j)

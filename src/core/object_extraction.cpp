@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include "ohm_mirror_detector3d/core/min_area_rectangle.h"
 
@@ -84,6 +85,60 @@ std::array<std::array<std::int32_t, 3>, 62> forwardOffsets()
   return offsets;
 }
 
+// PCL's plane model as RANSAC uses it, with a faster inlier count. RANSAC scores each of
+// its up to kRansacMaxIterations trial planes by countWithinDistance over every remaining
+// candidate; PCL's generic version (as packaged, without SSE4.1) gathers each point through
+// the index list into an Eigen vector and takes one dot product at a time. Here the
+// candidates are copied once per plane search into contiguous coordinate arrays, and the
+// count is a branch-free loop over them that the compiler vectorises. The count is the
+// same number as PCL's for every trial plane: the same float operations in the same order
+// (Eigen's 4-element dot sums as (a x + c z) + (b y + d)) and the same comparison against
+// the threshold as a double, so RANSAC picks the same planes.
+class CountingPlaneModel : public pcl::SampleConsensusModelPlane<pcl::PointXYZ>
+{
+public:
+  CountingPlaneModel(const Cloud::ConstPtr& cloud, const IndexVector& indices, const std::vector<float>& xs,
+                     const std::vector<float>& ys, const std::vector<float>& zs)
+    : pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud, indices, false), xs_(xs), ys_(ys), zs_(zs)
+  {
+  }
+
+  // The base's own return type (std::size_t in the PCL versions we build with).
+  using Count = decltype(std::declval<const pcl::SampleConsensusModelPlane<pcl::PointXYZ>&>().countWithinDistance(
+      std::declval<const Eigen::VectorXf&>(), 0.0));
+
+  Count countWithinDistance(const Eigen::VectorXf& model_coefficients, const double threshold) const override
+  {
+    if (!isModelValid(model_coefficients) || xs_.size() != indices_->size())
+      return pcl::SampleConsensusModelPlane<pcl::PointXYZ>::countWithinDistance(model_coefficients, threshold);
+    // |d| < threshold (as double) holds for a float d exactly when |d| < the smallest float
+    // not below the threshold.
+    float limit = static_cast<float>(threshold);
+    if (static_cast<double>(limit) < threshold)
+      limit = std::nextafter(limit, std::numeric_limits<float>::infinity());
+    const float a = model_coefficients[0];
+    const float b = model_coefficients[1];
+    const float c = model_coefficients[2];
+    const float d = model_coefficients[3];
+    const float* x = xs_.data();
+    const float* y = ys_.data();
+    const float* z = zs_.data();
+    const std::size_t n = xs_.size();
+    std::uint32_t count = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const float distance = (a * x[i] + c * z[i]) + (b * y[i] + d * 1.0f);
+      count += std::fabs(distance) < limit ? 1u : 0u;
+    }
+    return static_cast<Count>(count);
+  }
+
+private:
+  const std::vector<float>& xs_;
+  const std::vector<float>& ys_;
+  const std::vector<float>& zs_;
+};
+
 std::int32_t cellCoordinate(float value, double cell_size)
 {
   // Clamped so that absurd inputs cannot overflow; real sweeps are far inside.
@@ -99,6 +154,7 @@ struct ObjectExtractor::Workspace
   std::vector<PointRef> refs;
   std::vector<char> assigned;
   IndexVector remaining;  // candidates not yet assigned to a plane, ascending
+  std::vector<float> remaining_x, remaining_y, remaining_z;  // their coordinates, same order
   IndexVector inliers;
   IndexVector refined_inliers;
   Eigen::VectorXf coefficients;
@@ -422,8 +478,18 @@ void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const Sw
     // A fresh model and RANSAC per plane: both seed their generators with PCL's fixed seed
     // (12345) when not asked for a random one, so the same sweep gives the same planes,
     // whatever the extractor did before. Single-threaded (PCL's default).
+    ws.remaining_x.resize(ws.remaining.size());
+    ws.remaining_y.resize(ws.remaining.size());
+    ws.remaining_z.resize(ws.remaining.size());
+    for (std::size_t i = 0; i < ws.remaining.size(); ++i)
+    {
+      const pcl::PointXYZ& q = ws.cloud->points[static_cast<std::size_t>(ws.remaining[i])];
+      ws.remaining_x[i] = q.x;
+      ws.remaining_y[i] = q.y;
+      ws.remaining_z[i] = q.z;
+    }
     pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
-        new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(ws.cloud, ws.remaining, false));
+        new CountingPlaneModel(ws.cloud, ws.remaining, ws.remaining_x, ws.remaining_y, ws.remaining_z));
     pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, params.plane_threshold);
     ransac.setMaxIterations(kRansacMaxIterations);
     if (!ransac.computeModel())

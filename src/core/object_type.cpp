@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 
 // Why this is not pcl::IterativeClosestPoint on the whole scene (which it was, and which the
@@ -421,11 +422,12 @@ void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
   for (std::size_t k = 0; k < 2; ++k)
   {
     std::vector<Eigen::AlignedBox3f>& boxes = b.block_boxes[k];
-    boxes.assign((beams + kBlockBeams - 1) / kBlockBeams, Eigen::AlignedBox3f());
-    const std::vector<Eigen::Vector3f>& points = sweep.echoes[k].points;
-    for (std::size_t i = 0; i < beams; ++i)
-      if (points[i].allFinite())
-        boxes[i / kBlockBeams].extend(points[i]);
+    boxes.resize((beams + kBlockBeams - 1) / kBlockBeams);
+    const Eigen::Vector3f* points = sweep.echoes[k].points.data();
+    for (std::size_t block = 0; block < boxes.size(); ++block)
+      boxes[block] = blockBox(points, block * kBlockBeams, std::min(beams, (block + 1) * kBlockBeams),
+                              [](std::size_t) { return true; })
+                         .box;
   }
   b.boxes_of = &sweep;
   b.boxes_beams = beams;
