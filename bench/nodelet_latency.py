@@ -12,6 +12,15 @@ Starts its own master (roslaunch on a free port) with a nodelet manager and the 
 - received: input stamp -> `cleaned` received by this (Python) subscriber, which adds the transfer
   of the output and rospy's deserialisation.
 The ratio in-nodelet / core is the issue's target (<= 1.2). Prints a table, one JSON line last.
+
+Two deployments:
+- default, 'driver in another process (serialised over TCP)': the manager comes from roslaunch and
+  this Python process plays the driver, so the input is serialised by rospy and sent over TCP;
+- --inprocess BINARY, 'driver in the same manager (by pointer)': the same sweep goes into a bag, a
+  bare master (rosmaster --core) is started and BINARY (bench/nodelet_latency_inprocess.cpp) is the
+  nodelet manager: it loads the nodelet with the same parameters and publishes the sweep as a
+  ConstPtr from inside the process, as a driver nodelet in the same manager does; `received` is then
+  its own in-process (C++, by pointer) subscriber.
 """
 import argparse
 import json
@@ -50,11 +59,17 @@ def main():
     ap.add_argument('--sweeps', type=int, default=30)
     ap.add_argument('--warmup', type=int, default=3)
     ap.add_argument('--output', help='also write the JSON here')
+    ap.add_argument('--inprocess', metavar='BINARY',
+                    help='nodelet_latency_inprocess executable: measure with the driver in the same manager')
     args = ap.parse_args()
 
     port = free_port()
     os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % port
     params = os.path.join(HERE, '..', 'launch', 'rotating_hokuyo_params.yaml')
+    if args.inprocess:
+        result = measure_inprocess(args, port, os.path.abspath(params))
+        report(args, result)
+        return
     with tempfile.NamedTemporaryFile('w', suffix='.launch', delete=False) as f:
         f.write(LAUNCH % os.path.abspath(params))
         launch_file = f.name
@@ -69,14 +84,65 @@ def main():
         except subprocess.TimeoutExpired:
             launch.kill()
         os.remove(launch_file)
-    print('Nodelet latency (%s, %d sweeps, medians): core %.1f ms, input stamp -> cleaned published (in the '
-          'nodelet) %.1f ms = %.2f x core, -> received by a Python subscriber %.1f ms'
-          % (result['sweep'], result['sweeps'], result['core_ms'], result['in_nodelet_ms'], result['ratio'],
-             result['received_ms']), file=sys.stderr)
+    report(args, result)
+
+
+def report(args, result):
+    print('Nodelet latency, %s (%s, %d sweeps, medians): core %.1f ms, input stamp -> cleaned published (in the '
+          'nodelet) %.1f ms = %.2f x core, -> received by %s %.1f ms'
+          % (result['driver'], result['sweep'], result['sweeps'], result['core_ms'], result['in_nodelet_ms'],
+             result['ratio'], result['receiver'], result['received_ms']), file=sys.stderr)
     print(json.dumps(result))
     if args.output:
         with open(args.output, 'w') as f:
             json.dump(result, f, indent=1)
+
+
+def wait_for_master():
+    import rospy
+    deadline = time.time() + 60
+    while True:
+        try:
+            rospy.get_master().getSystemState()
+            return
+        except Exception:  # the master is not up yet
+            if time.time() > deadline:
+                raise RuntimeError('no ROS master on %s' % os.environ['ROS_MASTER_URI'])
+            time.sleep(0.2)
+
+
+def simulated_sweep(scans):
+    from ohm_mirror_detector3d.scanner import RotatingHokuyo
+    from ohm_mirror_detector3d.simulate import SweepSimulator
+    return SweepSimulator('two_mirrors_and_glass', RotatingHokuyo(scans=scans, range_noise=0.01)).sweep(
+        seed=0, noise=0.01)
+
+
+def measure_inprocess(args, port, params):
+    from ohm_mirror_detector3d.ros_io import write_sweeps_bag
+
+    tmp = tempfile.mkdtemp(prefix='ohm_latency_')
+    bag = os.path.join(tmp, 'sweep.bag')
+    write_sweeps_bag(bag, [simulated_sweep(args.scans)])
+    master = subprocess.Popen(['rosmaster', '--core', '-p', str(port)], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL)
+    try:
+        wait_for_master()
+        out = subprocess.run([args.inprocess, '--bag', bag, '--params', params, '--sweeps', str(args.sweeps),
+                              '--warmup', str(args.warmup)], check=True, stdout=subprocess.PIPE,
+                             universal_newlines=True, timeout=600).stdout
+    finally:
+        master.terminate()
+        try:
+            master.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            master.kill()
+        os.remove(bag)
+        os.rmdir(tmp)
+    result = json.loads(out.strip().splitlines()[-1])
+    result.update(sweep='1080x%d two_mirrors_and_glass' % args.scans, driver='driver in the same manager (by pointer)',
+                  receiver='a C++ subscriber in the same manager (by pointer)')
+    return result
 
 
 def measure(args):
@@ -86,21 +152,10 @@ def measure(args):
 
     from ohm_mirror_detector3d.msg import EchoPair
     from ohm_mirror_detector3d.ros_io import sweep_to_messages
-    from ohm_mirror_detector3d.scanner import RotatingHokuyo
-    from ohm_mirror_detector3d.simulate import SweepSimulator
 
-    deadline = time.time() + 60
-    while True:
-        try:
-            rospy.get_master().getSystemState()
-            break
-        except Exception:  # the master is not up yet
-            if time.time() > deadline:
-                raise RuntimeError('no ROS master on %s' % os.environ['ROS_MASTER_URI'])
-            time.sleep(0.2)
+    wait_for_master()
     rospy.init_node('nodelet_latency', disable_signals=True)
-    sweep = SweepSimulator('two_mirrors_and_glass', RotatingHokuyo(scans=args.scans, range_noise=0.01)).sweep(
-        seed=0, noise=0.01)
+    sweep = simulated_sweep(args.scans)
     pair = sweep_to_messages(sweep, rospy.Time.now())['echo_pair']
 
     lock = threading.Condition()
@@ -149,7 +204,9 @@ def measure(args):
     return {'sweep': '1080x%d two_mirrors_and_glass' % args.scans, 'beams': 1080 * args.scans,
             'sweeps': args.sweeps, 'core_ms': round(core_ms, 2), 'in_nodelet_ms': round(in_nodelet_ms, 2),
             'ratio': round(in_nodelet_ms / core_ms, 3), 'received_ms': round(1e3 * float(np.median(latency)), 2),
-            'in_nodelet_p95_ms': round(1e3 * float(np.percentile(in_nodelet, 95)), 2)}
+            'in_nodelet_p95_ms': round(1e3 * float(np.percentile(in_nodelet, 95)), 2),
+            'driver': 'driver in another process (serialised over TCP)',
+            'receiver': 'a Python subscriber in another process (serialised over TCP)'}
 
 
 if __name__ == '__main__':

@@ -9,7 +9,10 @@ float32 x y z intensity) and bench_pipeline times each one in a process of its o
 per sweep). In the same process, right after ours, the PCL baseline (bench/pcl_baseline.cpp: the same
 stages with PCL's generic tools) is timed on the same sweep, with few repeats because it is slow (--baseline-repeats;
 1 at the big sizes), and the ratio baseline/ours is reported. Then the resident set after 100 and after 10,000 sweeps
-of 1080 x 100 with objects through one pipeline (--rss-sweeps). Prints Markdown tables and writes the JSON (default
+of 1080 x 100 with objects through one pipeline (--rss-sweeps). Last, the latency of the real nodelet in a
+nodelet manager (bench/nodelet_latency.py, --latency-sweeps), measured twice: with the driver in the same
+manager (bench/nodelet_latency_inprocess, messages by pointer) and with the driver in another process
+(serialised over TCP); --only-latency runs only that part. Prints Markdown tables and writes the JSON (default
 bench/results.json).
 """
 import argparse
@@ -99,6 +102,35 @@ def growth(results):
     return out
 
 
+def measure_latency(args):
+    """bench/nodelet_latency.py twice on the same sweep: with the driver in the same nodelet manager
+    (nodelet_latency_inprocess, beside --binary: the deployment of a driver nodelet, input and output by
+    pointer) and with the driver in another process (rospy, input serialised over TCP)."""
+    inprocess = os.path.join(os.path.dirname(os.path.abspath(args.binary)), 'nodelet_latency_inprocess')
+    latency = {'target': 'input stamp -> cleaned published <= 1.2 x core (median)'}
+    for key, extra in (('same_manager', ['--inprocess', inprocess]), ('other_process', [])):
+        print('nodelet latency (%s): %d sweeps through a nodelet manager ...' % (key, args.latency_sweeps),
+              file=sys.stderr, flush=True)
+        out = subprocess.run([sys.executable, os.path.join(HERE, 'nodelet_latency.py'), '--sweeps',
+                              str(args.latency_sweeps)] + extra, check=True, stdout=subprocess.PIPE,
+                             universal_newlines=True).stdout
+        latency[key] = json.loads(out.strip().splitlines()[-1])
+    return latency
+
+
+def print_latency(latency):
+    print('\nNodelet latency through the real nodelet in a nodelet manager (%s, %d sweeps each, medians; '
+          'target: input stamp -> `cleaned` published <= 1.2 x core):\n'
+          % (latency['same_manager']['sweep'], latency['same_manager']['sweeps']))
+    print('| driver | core | stamp -> `cleaned` published | ratio | p95 published | stamp -> received |')
+    print('|---|---:|---:|---:|---:|---:|')
+    for key in ('same_manager', 'other_process'):
+        r = latency[key]
+        print('| %s | %.1f ms | %.1f ms | %.2f x | %.1f ms | %.1f ms (%s) |'
+              % (r['driver'], r['core_ms'], r['in_nodelet_ms'], r['ratio'], r['in_nodelet_p95_ms'],
+                 r['received_ms'], r['receiver']))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--binary', required=True, help='bench_pipeline executable')
@@ -115,7 +147,24 @@ def main():
     ap.add_argument('--latency-sweeps', type=int, default=30,
                     help='sweeps through the real nodelet for bench/nodelet_latency.py (0: skip; needs the '
                          'workspace sourced)')
+    ap.add_argument('--only-latency', action='store_true',
+                    help='run only the nodelet latency part and replace the nodelet_latency section of an '
+                         'existing --output JSON (the other sections stay as they were)')
     args = ap.parse_args()
+    if args.only_latency:
+        load_average = ' '.join(open('/proc/loadavg').read().split()[:3])
+        latency = measure_latency(args)
+        with open(args.output) as f:
+            report = json.load(f)
+        latency['measured'] = ('alone by run_bench.py --only-latency on %s UTC (load average %s at its start), '
+                               'not in the run that produced the rest of this file'
+                               % (time.strftime('%Y-%m-%d %H:%M', time.gmtime()), load_average))
+        report['nodelet_latency'] = latency
+        with open(args.output, 'w') as f:
+            json.dump(report, f, indent=1)
+        print_latency(latency)
+        print('\nJSON: %s (nodelet_latency replaced, the rest from its earlier run)' % args.output)
+        return
 
     results = []
     rss = None
@@ -154,14 +203,7 @@ def main():
             del rss['file']
             rss.update(size='1080x100', scene='two_mirrors_and_glass', within_1mb=abs(rss['growth_mb']) <= 1.0)
 
-    latency = None
-    if args.latency_sweeps > 0:
-        print('nodelet latency: %d sweeps through a nodelet manager ...' % args.latency_sweeps, file=sys.stderr,
-              flush=True)
-        out = subprocess.run([sys.executable, os.path.join(HERE, 'nodelet_latency.py'), '--sweeps',
-                              str(args.latency_sweeps)], check=True, stdout=subprocess.PIPE,
-                             universal_newlines=True).stdout
-        latency = json.loads(out.strip().splitlines()[-1])
+    latency = measure_latency(args) if args.latency_sweeps > 0 else None
 
     report = {
         'machine': machine(),
@@ -201,10 +243,7 @@ def main():
               % (rss['rss_after_100_mb'], rss['rss_after_all_mb'], rss['sweeps'], rss['growth_mb'],
                  'within 1 MB' if rss['within_1mb'] else 'MORE than 1 MB', rss['size'], rss['scene']))
     if latency:
-        print('\nNodelet latency (%s through the real nodelet in a nodelet manager, %d sweeps, medians): core %.1f ms; '
-              'input stamp -> `cleaned` published %.1f ms = %.2f x core (target <= 1.2); -> received by a Python '
-              'subscriber %.1f ms.' % (latency['sweep'], latency['sweeps'], latency['core_ms'],
-                                       latency['in_nodelet_ms'], latency['ratio'], latency['received_ms']))
+        print_latency(latency)
     print('\nJSON: %s' % args.output)
 
 
