@@ -71,7 +71,8 @@ demo: build
 # Not part of `make test`: a Release build with the bench binary, then the measurements
 # (table on stdout, bench/results.json): 8 sweeps x 22 runs of our pipeline, the PCL baseline on
 # the same sweeps (slow: a few runs), resident set after 10,000 sweeps, and the latency of the
-# real nodelet in a nodelet manager (its own master on a free port). About ten minutes.
+# real nodelet in a nodelet manager, with the driver in the same manager and in another process
+# (own masters on free ports). About ten minutes.
 bench:
 	$(MAKE) build BUILD_TYPE=Release CMAKE_EXTRA=-DOHM_BUILD_BENCH=ON
 	$(SOURCE_WS) && /usr/bin/python3 bench/run_bench.py --binary $(WS)/devel/lib/$(PKG)/bench_pipeline \
