@@ -22,7 +22,7 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build test demo bench clean
+.PHONY: all deps build test demo bench clean fuzz fuzz-build test-sanitize
 all: build
 
 # Installs only what is missing, so a prepared machine pays one dpkg-query.
@@ -66,6 +66,28 @@ bench:
 	$(MAKE) build BUILD_TYPE=Release CMAKE_EXTRA=-DOHM_BUILD_BENCH=ON
 	$(SOURCE_WS) && /usr/bin/python3 bench/run_bench.py --binary $(WS)/devel/lib/$(PKG)/bench_pipeline \
 	  --output $(CURDIR)/bench/results.json
+
+# The core gtests, the ROS input-conversion gtests and the fuzz corpus replay built with
+# -fsanitize=address,undefined in .ws/sanitize (the catkin build stays as it is) and run.
+test-sanitize: build
+	$(SOURCE_WS) && test/run_sanitized_tests.sh $(CURDIR) $(WS) $(WS)/sanitize
+
+# Not part of `make test`: the libFuzzer target (test/fuzz/fuzz_entry.h) built with clang outside
+# catkin into .ws/fuzz, run for FUZZ_SECONDS on one core. New inputs go to .ws/fuzz/corpus, the
+# committed seeds in test/fuzz/corpus are read; a crash leaves its reproducer in
+# .ws/fuzz/artifacts (copy it to test/fuzz/crashes: `make test` replays both folders).
+FUZZ_SECONDS ?= 60
+FUZZ_DIR := $(WS)/fuzz
+FUZZ_PACKAGES := clang libclang-rt-14-dev libfuzzer-14-dev
+fuzz-build: build
+	$(MAKE) deps APT_PACKAGES="$(FUZZ_PACKAGES)"
+	test/fuzz/build_fuzz.sh $(CURDIR) $(WS) $(FUZZ_DIR)
+
+fuzz: fuzz-build
+	mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/artifacts
+	$(SOURCE_WS) && UBSAN_OPTIONS=print_stacktrace=1 $(FUZZ_DIR)/fuzz_prefilter $(FUZZ_DIR)/corpus $(CURDIR)/test/fuzz/corpus \
+	  -max_total_time=$(FUZZ_SECONDS) -max_len=8192 -rss_limit_mb=2048 -timeout=30 -print_final_stats=1 \
+	  -artifact_prefix=$(FUZZ_DIR)/artifacts/ 2>&1 | tee $(FUZZ_DIR)/last_run.log
 
 clean:
 	rm -rf $(WS)

@@ -17,6 +17,10 @@ namespace
 constexpr double kThrottleSeconds = 5.0;
 // A scan waiting this long for its transforms gets a (throttled) warning.
 constexpr double kWaitWarningSeconds = 1.0;
+// A scan whose frame tf has never heard of is dropped after this long: the queue is worked
+// in order, so one scan with a wrong frame_id would otherwise hold back every later scan
+// until the queue overflows (max_pending_scans). Frames that tf knows keep waiting.
+constexpr double kUnknownFrameDropSeconds = 3.0;
 
 Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t)
 {
@@ -216,9 +220,24 @@ void MultiEchoScanInput::drain(const SweepSink& sink)
     const sensor_msgs::MultiEchoLaserScan& scan = *next.scan;
     std::string reason;
     const Projection projection = project(scan, reason);
+    const double waited = (ros::WallTime::now() - next.received).toSec();
+    if (projection == Projection::wait && waited > kUnknownFrameDropSeconds &&
+        !tf_buffer_->_frameExists(scan.header.frame_id))
+    {
+      {
+        std::lock_guard<std::mutex> lock(pending_mutex_);
+        if (!reset_requested_ && !pending_.empty() && pending_.front().scan == next.scan)
+          pending_.pop_front();
+      }
+      ROS_ERROR_STREAM_THROTTLE(kThrottleSeconds, name_ << ": dropping scan (stamp " << formatTime(scan.header.stamp)
+                                                        << "): its frame_id '" << scan.header.frame_id
+                                                        << "' is unknown to tf (no transform to "
+                                                        << options_.sweep_frame << " after " << waited << " s)");
+      continue;
+    }
     if (projection == Projection::wait)
     {
-      if ((ros::WallTime::now() - next.received).toSec() > kWaitWarningSeconds)
+      if (waited > kWaitWarningSeconds)
         ROS_WARN_STREAM_THROTTLE(kThrottleSeconds, name_ << ": waiting for the transform " << frames(scan) << " at "
                                                          << formatTime(scan.header.stamp) << ": " << reason);
       return;
