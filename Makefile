@@ -86,7 +86,7 @@ fuzz-build: build
 fuzz: fuzz-build
 	mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/artifacts
 	$(SOURCE_WS) && UBSAN_OPTIONS=print_stacktrace=1 $(FUZZ_DIR)/fuzz_prefilter $(FUZZ_DIR)/corpus $(CURDIR)/test/fuzz/corpus \
-	  -max_total_time=$(FUZZ_SECONDS) -max_len=8192 -rss_limit_mb=2048 -timeout=30 -print_final_stats=1 \
+	  -max_total_time=$(FUZZ_SECONDS) -max_len=8192 -rss_limit_mb=2048 -timeout=120 -print_final_stats=1 \
 	  -artifact_prefix=$(FUZZ_DIR)/artifacts/ 2>&1 | tee $(FUZZ_DIR)/last_run.log
 
 clean:
