@@ -22,7 +22,7 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build test demo bench clean fuzz fuzz-build test-sanitize
+.PHONY: all deps build test demo bench clean fuzz fuzz-build test-sanitize soak
 all: build
 
 # Installs only what is missing, so a prepared machine pays one dpkg-query.
@@ -71,6 +71,12 @@ bench:
 # -fsanitize=address,undefined in .ws/sanitize (the catkin build stays as it is) and run.
 test-sanitize: build
 	$(SOURCE_WS) && test/run_sanitized_tests.sh $(CURDIR) $(WS) $(WS)/sanitize
+
+# Not part of `make test`: SOAK_SWEEPS small sweeps through the real nodelet in a manager, lockstep;
+# fails when the manager's RSS grows by more than 1 MB between sweep 100 and the last. A few minutes.
+SOAK_SWEEPS ?= 10000
+soak: build
+	$(SOURCE_WS) && rostest --text $(CURDIR)/test/soak/soak.test sweeps:=$(SOAK_SWEEPS)
 
 # Not part of `make test`: the libFuzzer target (test/fuzz/fuzz_entry.h) built with clang outside
 # catkin into .ws/fuzz, run for FUZZ_SECONDS on one core. New inputs go to .ws/fuzz/corpus, the
