@@ -7,11 +7,17 @@ repo=$1 ws=$2 out=$3
 mkdir -p "$out/obj"
 CXX=${CXX:-clang++}
 SANITIZE="-fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined"
-CXXFLAGS="-std=c++17 -O1 -g -fno-omit-frame-pointer $SANITIZE -Wno-deprecated-declarations \
+# Eigen turns off "glibc malloc is already aligned" when it sees __SANITIZE_ADDRESS__ and then frees
+# with its own aligned_free, which reads a header that PCL's (uninstrumented) Eigen never wrote:
+# a false heap-buffer-overflow on every Eigen::VectorXf that PCL allocated. Same setting as PCL.
+CXXFLAGS="-DEIGEN_MALLOC_ALREADY_ALIGNED=1 -std=c++17 -O1 -g -fno-omit-frame-pointer $SANITIZE -Wno-deprecated-declarations \
   -I$repo/include -I$repo/test/fuzz -I$ws/devel/include -I/usr/include/pcl-1.13 -I/usr/include/eigen3"
 sources=$(ls "$repo"/src/core/*.cpp; for f in point_fields conversions dual_return message_walker hokuyo3d_legacy \
   message_pipeline multi_echo_scan parameters; do echo "$repo/src/ros/$f.cpp"; done; echo "$repo/test/fuzz/fuzz_entry.cpp")
 newest_header=$(find "$repo/include" "$repo/test/fuzz" -name '*.h' -printf '%T@\n' | sort -n | tail -1)
+# Objects of other flags are stale.
+if [ "$(cat "$out/flags" 2>/dev/null)" != "$CXX $CXXFLAGS" ]; then rm -f "$out"/obj/*.o; fi
+echo "$CXX $CXXFLAGS" > "$out/flags"
 export CXX CXXFLAGS out newest_header
 compile() {
   src=$1
