@@ -112,6 +112,15 @@ def huge_dual_return_cloud(header, points=10 * 1000 * 1000):
     return cloud
 
 
+def huge_echo_cloud(header, points=5 * 1000 * 1000):
+    """An echo cloud of `points` points at the origin (x y z intensity, float32): nanPoint, all of them."""
+    cloud = PointCloud2(header=header, height=1, width=points, is_bigendian=False, point_step=16,
+                        row_step=16 * points, is_dense=False)
+    cloud.fields = [PointField(n, 4 * i, PointField.FLOAT32, 1) for i, n in enumerate(('x', 'y', 'z', 'intensity'))]
+    cloud.data = bytes(16 * points)
+    return cloud
+
+
 def dual_return_cloud(header):
     """12 beams of ring 0 and 1 at distinct azimuths, two returns each: some discontinuous
     (echo 2 farther than d_thres), some agreeing, one single return (echo 2 NaN)."""
@@ -337,6 +346,10 @@ class MalformedInput(unittest.TestCase):
                 answer_points=n_input, stamp_offset=-5),
         ]
         if pair_mode:
+            # 10 M input points: 5 M per echo.
+            cases.append(Case('10 M points', lambda header: self.cloud_messages(
+                [huge_echo_cloud(header), huge_echo_cloud(header)], header),
+                answer_points=10 * 1000 * 1000, all_nan=True))
             cases.append(Case('echoes of different sizes', mutate(lambda c: truncate(c, 5), both=False),
                               error='echo1 has 5 points but echo2 has 7'))
             if mode == 'two_topics':
