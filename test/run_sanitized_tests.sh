@@ -32,7 +32,7 @@ compile() {
 }
 export -f compile
 core_sources=$(ls "$repo"/src/core/*.cpp)
-ros_sources=$(for f in point_fields conversions dual_return message_walker hokuyo3d_legacy message_pipeline \
+ros_sources=$(for f in point_fields conversions dual_return message_walker problem_throttle hokuyo3d_legacy message_pipeline \
   multi_echo_scan parameters; do echo "$repo/src/ros/$f.cpp"; done)
 test_sources=$(ls "$repo"/test/core/*.cpp "$repo"/test/ros/test_*.cpp "$repo"/test/fuzz/test_fuzz_corpus.cpp \
   "$repo"/test/fuzz/fuzz_entry.cpp)
