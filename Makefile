@@ -79,9 +79,10 @@ soak: build
 	$(SOURCE_WS) && rostest --text $(CURDIR)/test/soak/soak.test sweeps:=$(SOAK_SWEEPS)
 
 # Not part of `make test`: the libFuzzer target (test/fuzz/fuzz_entry.h) built with clang outside
-# catkin into .ws/fuzz, run for FUZZ_SECONDS on one core. New inputs go to .ws/fuzz/corpus, the
-# committed seeds in test/fuzz/corpus are read; a crash leaves its reproducer in
-# .ws/fuzz/artifacts (copy it to test/fuzz/crashes: `make test` replays both folders).
+# catkin into .ws/fuzz, run for FUZZ_SECONDS on one core. New inputs go to .ws/fuzz/corpus; the
+# committed seeds (test/fuzz/corpus) and grown corpus (test/fuzz/corpus_grown) are read. A crash
+# leaves its reproducer in .ws/fuzz/artifacts (copy it to test/fuzz/crashes: `make test` replays
+# all three folders).
 FUZZ_SECONDS ?= 60
 FUZZ_DIR := $(WS)/fuzz
 FUZZ_PACKAGES := clang libclang-rt-14-dev libfuzzer-14-dev
@@ -91,7 +92,7 @@ fuzz-build: build
 
 fuzz: fuzz-build
 	mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/artifacts
-	$(SOURCE_WS) && UBSAN_OPTIONS=print_stacktrace=1 $(FUZZ_DIR)/fuzz_prefilter $(FUZZ_DIR)/corpus $(CURDIR)/test/fuzz/corpus \
+	$(SOURCE_WS) && UBSAN_OPTIONS=print_stacktrace=1 $(FUZZ_DIR)/fuzz_prefilter $(FUZZ_DIR)/corpus $(CURDIR)/test/fuzz/corpus $(CURDIR)/test/fuzz/corpus_grown \
 	  -max_total_time=$(FUZZ_SECONDS) -max_len=8192 -rss_limit_mb=2048 -timeout=120 -print_final_stats=1 \
 	  -artifact_prefix=$(FUZZ_DIR)/artifacts/ 2>&1 | tee $(FUZZ_DIR)/last_run.log
 
