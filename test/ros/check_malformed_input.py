@@ -244,7 +244,7 @@ class MalformedInput(unittest.TestCase):
             msg.coorddist.append(coord_dist(coord=c, dist=d))
         return msg
 
-    def scan(self, ranges, frame='laser', stamp=None, intensities=None):
+    def scan(self, ranges, frame='laser', stamp=None, intensities=None, time_increment=0.0005):
         if stamp is None:
             type(self).scan_time += 0.02
             stamp = self.scan_time
@@ -252,7 +252,7 @@ class MalformedInput(unittest.TestCase):
         msg.header = Header(stamp=rospy.Time.from_sec(stamp), frame_id=frame)
         msg.angle_min, msg.angle_increment = -0.5, 0.1
         msg.angle_max = msg.angle_min + (len(ranges) - 1) * msg.angle_increment if ranges else msg.angle_min
-        msg.time_increment, msg.scan_time = 0.0005, 0.02
+        msg.time_increment, msg.scan_time = time_increment, 0.02
         msg.range_min, msg.range_max = 0.02, 30.0
         msg.ranges = [LaserEcho(echoes=list(r)) for r in ranges]
         intensities = intensities if intensities is not None else [[100.0] * len(r) for r in ranges]
@@ -397,6 +397,9 @@ class MalformedInput(unittest.TestCase):
             Case('a beam with more ranges than intensities',
                  lambda h: [(0, self.scan(good, intensities=[[1.0]] * len(good)))], error='intensity echoes'),
             Case('zero stamp', lambda h: [(0, self.scan(good, stamp=0.0))], error='header.stamp is zero'),
+            # Found by the fuzzer: ros::Duration threw out of the callback.
+            Case('time_increment of 1e27 s', lambda h: [(0, self.scan(good, time_increment=1e27))],
+                 error='(time_increment) take'),
             Case('no beams', lambda h: [(0, self.scan([]))], error='no beams'),
             Case('unknown frame', lambda h: [(0, self.scan(good, frame='no_such_frame'))],
                  error="frame_id 'no_such_frame' is unknown to tf"),
