@@ -23,7 +23,7 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build test demo bench test-compat print-apt-packages clean
+.PHONY: all deps build test demo bench test-compat print-apt-packages clean fuzz fuzz-build test-sanitize soak
 all: build
 
 # Installs only what is missing, so a prepared machine pays one dpkg-query.
@@ -95,6 +95,35 @@ test-compat:
 # For test/compat/run_compat.sh, which installs the same list inside the chroot.
 print-apt-packages:
 	@echo $(APT_PACKAGES)
+
+# The core gtests, the ROS input-conversion gtests and the fuzz corpus replay built with
+# -fsanitize=address,undefined in .ws/sanitize (the catkin build stays as it is) and run.
+test-sanitize: build
+	$(SOURCE_WS) && test/run_sanitized_tests.sh $(CURDIR) $(WS) $(WS)/sanitize
+
+# Not part of `make test`: SOAK_SWEEPS small sweeps through the real nodelet in a manager, lockstep;
+# fails when the manager's RSS grows by more than 1 MB between sweep 100 and the last. A few minutes.
+SOAK_SWEEPS ?= 10000
+soak: build
+	$(SOURCE_WS) && rostest --text $(CURDIR)/test/soak/soak.test sweeps:=$(SOAK_SWEEPS)
+
+# Not part of `make test`: the libFuzzer target (test/fuzz/fuzz_entry.h) built with clang outside
+# catkin into .ws/fuzz, run for FUZZ_SECONDS on one core. New inputs go to .ws/fuzz/corpus; the
+# committed seeds (test/fuzz/corpus) and grown corpus (test/fuzz/corpus_grown) are read. A crash
+# leaves its reproducer in .ws/fuzz/artifacts (copy it to test/fuzz/crashes: `make test` replays
+# all three folders).
+FUZZ_SECONDS ?= 60
+FUZZ_DIR := $(WS)/fuzz
+FUZZ_PACKAGES := clang libclang-rt-14-dev libfuzzer-14-dev
+fuzz-build: build
+	$(MAKE) deps APT_PACKAGES="$(FUZZ_PACKAGES)"
+	test/fuzz/build_fuzz.sh $(CURDIR) $(WS) $(FUZZ_DIR)
+
+fuzz: fuzz-build
+	mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/artifacts
+	$(SOURCE_WS) && UBSAN_OPTIONS=print_stacktrace=1 $(FUZZ_DIR)/fuzz_prefilter $(FUZZ_DIR)/corpus $(CURDIR)/test/fuzz/corpus $(CURDIR)/test/fuzz/corpus_grown \
+	  -max_total_time=$(FUZZ_SECONDS) -max_len=8192 -rss_limit_mb=2048 -timeout=120 -print_final_stats=1 \
+	  -artifact_prefix=$(FUZZ_DIR)/artifacts/ 2>&1 | tee $(FUZZ_DIR)/last_run.log
 
 clean:
 	rm -rf $(WS)

@@ -17,12 +17,20 @@ std::string describe(const char* ros_name, const char* paper_name, double value)
   return out.str();
 }
 
+// A bound as people write it ("0", "0.5"), not std::to_string's "0.000000".
+std::string bound(double value)
+{
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
 void requireAbove(std::vector<std::string>& errors, const char* ros_name, const char* paper_name,
                   double value, double lower_exclusive, const char* unit)
 {
   if (!std::isfinite(value) || !(value > lower_exclusive))
     errors.push_back(describe(ros_name, paper_name, value) + " is out of range: must be finite and > " +
-                     std::to_string(lower_exclusive) + " " + unit);
+                     bound(lower_exclusive) + " " + unit);
 }
 
 void requireAtLeast(std::vector<std::string>& errors, const char* ros_name, const char* paper_name,
@@ -30,7 +38,7 @@ void requireAtLeast(std::vector<std::string>& errors, const char* ros_name, cons
 {
   if (!std::isfinite(value) || !(value >= lower_inclusive))
     errors.push_back(describe(ros_name, paper_name, value) + " is out of range: must be finite and >= " +
-                     std::to_string(lower_inclusive) + " " + unit);
+                     bound(lower_inclusive) + " " + unit);
 }
 }  // namespace
 
@@ -41,7 +49,7 @@ std::vector<std::string> Params::validate() const
   requireAbove(errors, "max_measure_distance", "d_max", max_range, 0.0, "m");
   if (std::isfinite(min_range) && std::isfinite(max_range) && min_range >= max_range)
     errors.push_back(describe("min_measure_distance", "d_min", min_range) +
-                     " must be smaller than max_measure_distance (d_max) = " + std::to_string(max_range));
+                     " must be smaller than max_measure_distance (d_max) = " + bound(max_range));
   requireAbove(errors, "outlierFilter_searchRadius", "r", outlier_radius, 0.0, "m");
   requireAtLeast(errors, "outlierFilter_minNeighbors", "n_inlier", outlier_min_neighbors, 1, "points");
   requireAbove(errors, "substract_threshold_distance", "d_thres", echo_threshold, 0.0, "m");

@@ -92,7 +92,10 @@ std::string readEchoCloud(const sensor_msgs::PointCloud2& cloud, core::EchoCloud
   echo.intensities.resize(points);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::size_t i = 0;
-  for (std::uint32_t row = 0; row < cloud.height; ++row)
+  // An empty cloud may still claim up to 2^32 - 1 rows of width 0 (found by the fuzzer: an
+  // unoptimised build then spins for minutes): no point, no loop.
+  const std::uint32_t rows = points == 0 ? 0 : cloud.height;
+  for (std::uint32_t row = 0; row < rows; ++row)
   {
     const std::uint8_t* point = cloud.data.data() + static_cast<std::size_t>(row) * cloud.row_step;
     for (std::uint32_t col = 0; col < cloud.width; ++col, ++i, point += cloud.point_step)
@@ -123,8 +126,9 @@ std::string echoCloudsToSweep(const sensor_msgs::PointCloud2& echo1, const senso
   problem = readEchoCloud(echo2, sweep.echoes[1], intensity2);
   if (!problem.empty())
     return "echo2 " + problem;
-  sweep.rows = echo1.height;
-  sweep.cols = echo1.width;
+  // An empty cloud is a 0 x 0 grid, whatever its height or width claims.
+  sweep.rows = size1 == 0 ? 0 : echo1.height;
+  sweep.cols = size1 == 0 ? 0 : echo1.width;
   sweep.has_intensity = intensity1 && intensity2;
   sweep.input_cells.clear();
   sweep.origin.setZero();

@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -17,6 +19,12 @@ namespace
 constexpr double kThrottleSeconds = 5.0;
 // A scan waiting this long for its transforms gets a (throttled) warning.
 constexpr double kWaitWarningSeconds = 1.0;
+// A scan whose frame tf has never heard of is dropped after this long: the queue is worked
+// in order, so one scan with a wrong frame_id would otherwise hold back every later scan
+// until the queue overflows (max_pending_scans). Frames that tf knows keep waiting.
+constexpr double kUnknownFrameDropSeconds = 3.0;
+// Longest a single scan may take from its first to its last beam (a Hokuyo: 25 ms).
+constexpr double kMaxScanSeconds = 10.0;
 
 Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t)
 {
@@ -103,6 +111,15 @@ std::string checkMultiEchoScan(const sensor_msgs::MultiEchoLaserScan& scan)
             << ", not at angle_max " << scan.angle_max;
   else if (!std::isfinite(scan.time_increment) || scan.time_increment < 0.0f)
     problem << "time_increment " << scan.time_increment << " must be finite and >= 0";
+  // Found by the fuzzer: ros::Duration / ros::Time throw (std::runtime_error, out of the
+  // callback) when the scan's last beam time is beyond their 32-bit range.
+  else if (static_cast<double>(scan.time_increment) * static_cast<double>(n - 1) > kMaxScanSeconds)
+    problem << n << " beams " << scan.time_increment << " s apart (time_increment) take "
+            << static_cast<double>(scan.time_increment) * static_cast<double>(n - 1) << " s: more than "
+            << kMaxScanSeconds << " s for one scan";
+  else if (scan.header.stamp.toSec() + static_cast<double>(scan.time_increment) * static_cast<double>(n - 1) >=
+           static_cast<double>(std::numeric_limits<std::uint32_t>::max()))
+    problem << "header.stamp " << scan.header.stamp.toSec() << " plus the scan's duration is beyond ros::Time's range";
   else if (std::isnan(scan.range_min) || std::isnan(scan.range_max) || scan.range_min > scan.range_max)
     problem << "range_min " << scan.range_min << " and range_max " << scan.range_max
             << " must be numbers with range_min <= range_max";
@@ -216,9 +233,24 @@ void MultiEchoScanInput::drain(const SweepSink& sink)
     const sensor_msgs::MultiEchoLaserScan& scan = *next.scan;
     std::string reason;
     const Projection projection = project(scan, reason);
+    const double waited = (ros::WallTime::now() - next.received).toSec();
+    if (projection == Projection::wait && waited > kUnknownFrameDropSeconds &&
+        !tf_buffer_->_frameExists(scan.header.frame_id))
+    {
+      {
+        std::lock_guard<std::mutex> lock(pending_mutex_);
+        if (!reset_requested_ && !pending_.empty() && pending_.front().scan == next.scan)
+          pending_.pop_front();
+      }
+      ROS_ERROR_STREAM_THROTTLE(kThrottleSeconds, name_ << ": dropping scan (stamp " << formatTime(scan.header.stamp)
+                                                        << "): its frame_id '" << scan.header.frame_id
+                                                        << "' is unknown to tf (no transform to "
+                                                        << options_.sweep_frame << " after " << waited << " s)");
+      continue;
+    }
     if (projection == Projection::wait)
     {
-      if ((ros::WallTime::now() - next.received).toSec() > kWaitWarningSeconds)
+      if (waited > kWaitWarningSeconds)
         ROS_WARN_STREAM_THROTTLE(kThrottleSeconds, name_ << ": waiting for the transform " << frames(scan) << " at "
                                                          << formatTime(scan.header.stamp) << ": " << reason);
       return;

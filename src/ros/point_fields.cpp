@@ -135,7 +135,9 @@ std::string readIntegerField(const sensor_msgs::PointCloud2& cloud, const std::s
            ", expected an integer type (INT8 .. UINT32)";
   values.resize(static_cast<std::size_t>(cloud.width) * cloud.height);
   std::size_t i = 0;
-  for (std::uint32_t row = 0; row < cloud.height; ++row)
+  // No point, no loop: an empty cloud may claim 2^32 - 1 rows of width 0.
+  const std::uint32_t rows = values.empty() ? 0 : cloud.height;
+  for (std::uint32_t row = 0; row < rows; ++row)
   {
     const std::uint8_t* point = cloud.data.data() + static_cast<std::size_t>(row) * cloud.row_step + field->offset;
     for (std::uint32_t col = 0; col < cloud.width; ++col, ++i, point += cloud.point_step)

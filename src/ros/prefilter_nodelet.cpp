@@ -96,7 +96,11 @@ void PreFilterNodelet::onInit()
   }
   input_topic_ = topicName(pnh, "input", { "sub_input_scan" });
   if (input_mode_ == "multi_echo_scan")
-    scan_input_ = std::make_unique<ros_io::MultiEchoScanInput>(scan_options, getNodeHandle(), getName());
+  {
+    // Its messages name the input topic too, as every other input problem does.
+    scan_input_ = std::make_unique<ros_io::MultiEchoScanInput>(scan_options, getNodeHandle(),
+                                                               getName() + " (input " + input_topic_ + ")");
+  }
 
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
@@ -242,7 +246,7 @@ void PreFilterNodelet::onEchoPair(const EchoPair::ConstPtr& pair)
   const std::string problem = ros_io::echoPairToSweep(*pair, pipeline_.sweep());
   if (!problem.empty())
   {
-    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
+    reportInputProblem(true, "sweep", input_topic_, problem);
     stats_.recordDropped(problem);
     return;
   }
@@ -256,9 +260,7 @@ void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& ec
   const std::string problem = ros_io::echoCloudsToSweep(*echo1, *echo2, pipeline_.sweep());
   if (!problem.empty())
   {
-    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << echo1_sub_.getTopic() << " + "
-                                                                              << echo2_sub_.getTopic() << ": "
-                                                                              << problem);
+    reportInputProblem(true, "sweep", echo1_sub_.getTopic() + " + " + echo2_sub_.getTopic(), problem);
     stats_.recordDropped(problem);
     return;
   }
@@ -272,7 +274,7 @@ void PreFilterNodelet::onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::Co
     const std::string problem = scan_input_->addScan(scan);
     if (!problem.empty())
     {
-      NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping scan on " << input_topic_ << ": " << problem);
+      reportInputProblem(true, "scan", input_topic_, problem);
       stats_.recordDropped("scan: " + problem);
     }
   }
@@ -291,13 +293,13 @@ void PreFilterNodelet::onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPt
                                                              pipeline_.sweep(), stats);
   if (!problem.empty())
   {
-    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << ": " << problem);
+    reportInputProblem(true, "sweep", input_topic_, problem);
     stats_.recordDropped(problem);
     return;
   }
   const std::string unbinned = ros_io::describeUnbinned(stats, azimuth_resolution_deg_);
   if (!unbinned.empty())
-    NODELET_WARN_STREAM_THROTTLE(kErrorThrottleSeconds, "sweep on " << input_topic_ << ": " << unbinned);
+    reportInputProblem(false, "sweep", input_topic_, unbinned);
   processAndPublish(cloud->header);
 }
 
@@ -313,9 +315,7 @@ void PreFilterNodelet::onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr
                                                      header);
   if (!problem.empty())
   {
-    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep on " << input_topic_ << " ("
-                                                                              << message->getDataType()
-                                                                              << "): " << problem);
+    reportInputProblem(true, "sweep", input_topic_ + " (" + message->getDataType() + ")", problem);
     stats_.recordDropped(problem);
     return;
   }
@@ -345,6 +345,23 @@ bool PreFilterNodelet::placeSensorOrigin(const std_msgs::Header& header)
     stats_.recordDropped(std::string("no transform from sensor_frame: ") + error.what());
     return false;
   }
+}
+
+void PreFilterNodelet::reportInputProblem(bool dropped, const std::string& what, const std::string& topic,
+                                          const std::string& problem)
+{
+  std::size_t suppressed = 0;
+  {
+    std::lock_guard<std::mutex> lock(problem_mutex_);
+    if (!problem_throttle_.shouldReport(topic, problem, ros::WallTime::now().toSec(), suppressed))
+      return;
+  }
+  const std::string repeats =
+      suppressed > 0 ? " (and " + std::to_string(suppressed) + " more like it since the last report)" : "";
+  if (dropped)
+    NODELET_ERROR_STREAM("dropping " << what << " on " << topic << ": " << problem << repeats);
+  else
+    NODELET_WARN_STREAM(what << " on " << topic << ": " << problem << repeats);
 }
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)

@@ -25,6 +25,7 @@
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
 #include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 #include "ohm_mirror_detector3d/ros/processing_stats.h"
+#include "ohm_mirror_detector3d/ros/problem_throttle.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -55,6 +56,10 @@ private:
   // sensor_frame: puts the scanner's position in the cloud's frame into the sweep's origin
   // (the vision cones start there). False, with a throttled error, when tf cannot say.
   bool placeSensorOrigin(const std_msgs::Header& header);
+  // Logs a problem with the input on `topic` ("dropping sweep on TOPIC: PROBLEM" as an error,
+  // or "sweep on TOPIC: PROBLEM" as a warning), throttled per kind of problem.
+  void reportInputProblem(bool dropped, const std::string& what, const std::string& topic,
+                          const std::string& problem);
 
   std::string input_mode_;
   std::string input_topic_;  // pair mode
@@ -92,6 +97,9 @@ private:
   core::DualReturnInput dual_return_input_;  // buffer of the dual_return adapter
   ros_io::Hokuyo3dLegacyDecoder legacy_decoder_;  // hokuyo3d_legacy: cached definition
   std::vector<std::uint8_t> legacy_bytes_;
+
+  std::mutex problem_mutex_;
+  ros_io::ProblemThrottle problem_throttle_{ 5.0 };
 
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<PreFilterConfig>> reconfigure_server_;
