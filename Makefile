@@ -81,7 +81,7 @@ bench:
 # Not part of `make test`: build and ctest in a Debian 11 (bullseye) chroot, the toolchain closest
 # to ROS Noetic robots (gcc 10, PCL 1.11, Python 3.9), plus vermin for Python 3.8. The chroot
 # lives in .compat/ (git-ignored, ~4 GB) and is reused; the first run took 18 min here
-# (packages, build), later ones 2.5 min.
+# (packages, build), later ones 2.5 min (6 min when CMakeLists.txt or package.xml changed).
 test-compat:
 	@missing=$$(for p in debootstrap python3-venv; do \
 	    dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
