@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 import threading
+import time
 import unittest
 
 import dynamic_reconfigure.client
@@ -157,9 +158,16 @@ class Reconfigure(unittest.TestCase):
         streamer = threading.Thread(target=stream)
         streamer.start()
         try:
-            for i in range(60):
+            # At least 60 rounds, and on until 60 sweeps went out while reconfiguring (30 s at most):
+            # on a quiet machine 60 rounds take less than a second. Ends on an odd round (d_thres 2.0).
+            started = time.monotonic()
+            i = 0
+            while True:
                 self.client.update_configuration({'substract_threshold_distance': 2.0 if i % 2 else 0.05})
                 self.client.update_configuration({'outlierFilter_searchRadius': -1.0 if i % 3 else NAN})
+                if i % 2 == 1 and i >= 59 and (sent[0] >= 60 or time.monotonic() - started > 30.0):
+                    break
+                i += 1
         finally:
             stop.set()
             streamer.join()
@@ -171,7 +179,7 @@ class Reconfigure(unittest.TestCase):
             points = read_output(cloud)
             self.assertEqual(len(points), 2 * len(BEAMS))
             self.assertIn([int(label) for label in points[points['beam'] == 0]['label']], allowed)
-        # The last valid update (i = 59: d_thres 2.0) is in force.
+        # The last valid update (an odd round: d_thres 2.0) is in force.
         self.assertEqual(self.beam0_labels(), [Label.VALID, Label.VALID])
         self.client.update_configuration({'substract_threshold_distance': 0.05})
         self.assertEqual(self.beam0_labels(), [Label.VALID, Label.ERROR])
