@@ -78,13 +78,18 @@ def main():
     try:
         result = measure(args)
     finally:
-        launch.terminate()
-        try:
-            launch.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            launch.kill()
+        stop(launch)
         os.remove(launch_file)
     report(args, result)
+
+
+def stop(process):
+    """Ends a roslaunch or rosmaster started here: SIGTERM, SIGKILL if it is still there after 20 s."""
+    process.terminate()
+    try:
+        process.wait(timeout=20)
+    except subprocess.TimeoutExpired:
+        process.kill()
 
 
 def report(args, result):
@@ -132,11 +137,7 @@ def measure_inprocess(args, port, params):
                               '--warmup', str(args.warmup)], check=True, stdout=subprocess.PIPE,
                              universal_newlines=True, timeout=600).stdout
     finally:
-        master.terminate()
-        try:
-            master.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            master.kill()
+        stop(master)
         os.remove(bag)
         os.rmdir(tmp)
     result = json.loads(out.strip().splitlines()[-1])
