@@ -12,7 +12,8 @@ source "$repo/test/sanitized_objects.sh"
 CXXFLAGS="$SANITIZED_BASE_FLAGS -fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined \
   -Wno-deprecated-declarations -Wno-array-bounds $SANITIZED_INCLUDES -DOHM_FUZZ_DIR=\"$repo/test/fuzz\""
 core_sources=$(ls "$repo"/src/core/*.cpp)
-ros_sources=$SANITIZED_ROS_SOURCES
+# test/ros/test_processing_stats.cpp also tests the diagnostics counters.
+ros_sources="$SANITIZED_ROS_SOURCES $repo/src/ros/processing_stats.cpp"
 test_sources=$(ls "$repo"/test/core/*.cpp "$repo"/test/ros/test_*.cpp "$repo"/test/fuzz/test_fuzz_corpus.cpp \
   "$repo"/test/fuzz/fuzz_entry.cpp)
 echo "$core_sources $ros_sources $test_sources" | tr ' ' '\n' | compile_in_parallel "$repo/include" "$repo/test"
