@@ -15,11 +15,18 @@ compat_dir=$repo/.compat
 root=$compat_dir/bullseye
 venv=$compat_dir/venv
 pkg=ohm_mirror_detector3d
-# The host's Debian mirror (the only archive reachable on these machines).
-# Active entries only: comments may name other archives (snapshot.debian.org).
-mirror=${COMPAT_MIRROR:-$(cat /etc/apt/sources.list /etc/apt/sources.list.d/*.sources /etc/apt/sources.list.d/*.list \
-  2>/dev/null | grep -E '^(URIs:|deb )' | grep -o -E 'https?://[^ ]+/debian/?( |$)' | tr -d ' ' | head -n1 || true)}
-mirror=${mirror:-http://deb.debian.org/debian}
+# The Debian mirror comes from the machine's own apt configuration (the only archive these
+# machines reach), never from a name written here: the first active `deb` line or deb822
+# `URIs:` entry whose path ends in /debian. COMPAT_MIRROR overrides it. Comment lines are
+# skipped (they may name other archives).
+apt_sources=(/etc/apt/sources.list /etc/apt/sources.list.d/*.list /etc/apt/sources.list.d/*.sources)
+mirror=${COMPAT_MIRROR:-$(cat "${apt_sources[@]}" 2>/dev/null | grep -E '^(URIs:|deb )' \
+  | grep -o -E '[a-z]+://[^ ]+/debian/?( |$)' | tr -d ' ' | head -n1 || true)}
+if [ -z "$mirror" ]; then
+  echo "test-compat: no Debian mirror configured: looked for an active 'deb' or 'URIs:' entry ending in /debian" \
+    "in ${apt_sources[*]}; configure apt (or set COMPAT_MIRROR) and run again" >&2
+  exit 1
+fi
 
 sudo=
 [ "$(id -u)" = 0 ] || sudo=sudo
