@@ -28,6 +28,13 @@ namespace core = ohm_mirror_detector3d::core;
 
 namespace
 {
+// The simulated sweeps are in the scanner's frame.
+const core::SweepContext& sensorContext()
+{
+  static const core::SweepContext context;
+  return context;
+}
+
 core::Sweep readSweep(const std::string& path)
 {
   std::ifstream in(path, std::ios::binary);
@@ -53,7 +60,7 @@ core::Sweep readSweep(const std::string& path)
       echo.intensities[i] = buffer[4 * i + 3];
     }
   }
-  sweep.computeRanges();
+  sweep.computeRanges(sensorContext().sensorOrigin());
   return sweep;
 }
 
@@ -120,7 +127,7 @@ void measureRss(const std::string& file, const core::Sweep& sweep, int sweeps)
   const auto start = std::chrono::steady_clock::now();
   for (int i = 1; i <= sweeps; ++i)
   {
-    pipeline.process(sweep);
+    pipeline.process(sweep, sensorContext());
     if (i == 100)
       after_100 = statusMb("VmRSS");
   }
@@ -175,7 +182,7 @@ int main(int argc, char** argv)
       }
       core::Pipeline pipeline(hokuyoParams());
       for (int i = 0; i < warmup; ++i)
-        pipeline.process(sweep);
+        pipeline.process(sweep, sensorContext());
       const char* names[] = { "range_gate",    "outlier_filter", "echo_comparison", "object_extraction",
                               "type_analysis", "cone_labelling", "cleaned_output",  "total" };
       std::vector<std::vector<double>> samples(8);
@@ -187,7 +194,7 @@ int main(int argc, char** argv)
       for (; runs < repeats && !(budget > 0.0 && runs >= 5 && spent > budget); ++runs)
       {
         const double cpu_start = threadCpuSeconds();
-        const core::PipelineResult& r = pipeline.process(sweep);
+        const core::PipelineResult& r = pipeline.process(sweep, sensorContext());
         cpu.push_back(threadCpuSeconds() - cpu_start);
         const core::StageTimes& t = r.times;
         const double values[] = { t.range_gate,    t.outlier_filter, t.echo_comparison, t.object_extraction,
@@ -220,7 +227,7 @@ int main(int argc, char** argv)
         std::size_t planes = 0;
         for (int run = 0; run < baseline_repeats; ++run)
         {
-          const BaselineTimes b = runPclBaseline(sweep, hokuyoParams());
+          const BaselineTimes b = runPclBaseline(sweep, sensorContext().sensorOrigin(), hokuyoParams());
           const double values[] = { b.outlier_filter, b.echo_comparison, b.planes, b.icp, b.total };
           for (int s = 0; s < 5; ++s)
             baseline[s].push_back(values[s]);

@@ -33,7 +33,7 @@ double lap(Clock::time_point& start)
 }
 }  // namespace
 
-BaselineTimes runPclBaseline(const core::Sweep& sweep, const core::Params& params)
+BaselineTimes runPclBaseline(const core::Sweep& sweep, const Eigen::Vector3f& sensor_origin, const core::Params& params)
 {
   BaselineTimes times;
   // PCL's ICP reports a plane with too few correspondences (the glass) as an error on every
@@ -103,7 +103,7 @@ BaselineTimes runPclBaseline(const core::Sweep& sweep, const core::Params& param
       break;
     Eigen::Vector4f plane(coefficients.values[0], coefficients.values[1], coefficients.values[2],
                           coefficients.values[3]);
-    if (plane.head<3>().dot(sweep.origin) + plane[3] < 0.0f)
+    if (plane.head<3>().dot(sensor_origin) + plane[3] < 0.0f)
       plane = -plane;  // normal towards the sensor
     planes.push_back(plane);
     Eigen::AlignedBox3f extent;
@@ -131,7 +131,7 @@ BaselineTimes runPclBaseline(const core::Sweep& sweep, const core::Params& param
   for (std::size_t j = 0; j < planes.size(); ++j)
   {
     const Eigen::Vector4f& plane = planes[j];
-    const float origin_side = plane.head<3>().dot(sweep.origin) + plane[3];
+    const float origin_side = plane.head<3>().dot(sensor_origin) + plane[3];
     Cloud::Ptr source(new Cloud), target(new Cloud);
     for (int index : kept)
     {
@@ -142,7 +142,8 @@ BaselineTimes runPclBaseline(const core::Sweep& sweep, const core::Params& param
         target->push_back(q);
       else if (side < -params.plane_threshold)
       {
-        const Eigen::Vector3f crossing = sweep.origin + (origin_side / (origin_side - side)) * (p - sweep.origin);
+        const Eigen::Vector3f crossing =
+            sensor_origin + (origin_side / (origin_side - side)) * (p - sensor_origin);
         if (!extents[j].contains(crossing))
           continue;
         const Eigen::Vector3f m = p - 2.0f * side * plane.head<3>();

@@ -4,6 +4,7 @@
 // scene in front of it. Not part of the package; times only, its output is not used.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 
 #include "ohm_mirror_detector3d/core/params.h"
@@ -19,5 +20,5 @@ struct BaselineTimes
   std::size_t planes_found = 0;
 };
 
-BaselineTimes runPclBaseline(const ohm_mirror_detector3d::core::Sweep& sweep,
+BaselineTimes runPclBaseline(const ohm_mirror_detector3d::core::Sweep& sweep, const Eigen::Vector3f& sensor_origin,
                              const ohm_mirror_detector3d::core::Params& params);

@@ -173,8 +173,14 @@ void ObjectAssignment::reset(std::size_t beam_count)
     objects.assign(beam_count, kNoObject);
 }
 
-void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<ReflectiveObject>& objects,
-                        SweepLabels& labels, ObjectAssignment& assignment)
+ConeLabelling::ConeLabelling(const ConeLabellingConfig& config)
+  : plane_threshold_(static_cast<float>(config.plane_threshold)), cone_margin_(static_cast<float>(config.cone_margin))
+{
+}
+
+void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+                          std::vector<ReflectiveObject>& objects, SweepLabels& labels,
+                          ObjectAssignment& assignment) const
 {
   const std::size_t beams = sweep.beamCount();
   assignment.reset(beams);
@@ -183,16 +189,16 @@ void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<Re
   for (ReflectiveObject& object : objects)
     object.surface_points = object.behind_points = 0;
 
-  const float plane_threshold = static_cast<float>(params.plane_threshold);
-  const float margin = static_cast<float>(params.vision_cone_margin);
+  const float plane_threshold = plane_threshold_;
+  const float margin = cone_margin_;
   std::vector<VisionCone> cones;
   cones.reserve(objects.size());
   for (const ReflectiveObject& object : objects)
-    cones.emplace_back(object, sweep.origin, plane_threshold, margin);
+    cones.emplace_back(object, sensor_origin, plane_threshold, margin);
   std::vector<ConeBounds> bounds;
   bounds.reserve(objects.size());
   for (const ReflectiveObject& object : objects)
-    bounds.emplace_back(object, sweep.origin, plane_threshold, margin);
+    bounds.emplace_back(object, sensor_origin, plane_threshold, margin);
   // Objects whose cone the current block may reach, ascending (so that ties between cones
   // resolve as if every cone were tested).
   std::vector<std::size_t> reachable;

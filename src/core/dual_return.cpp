@@ -175,7 +175,6 @@ DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_reso
   // Fill the sweep.
   const float nan = std::numeric_limits<float>::quiet_NaN();
   sweep.resize(rows, cols);
-  sweep.origin.setZero();
   sweep.has_intensity = input.has_intensity;
   for (EchoCloud& echo : sweep.echoes)
   {
@@ -220,7 +219,7 @@ DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_reso
     stats.paired_beams += first && second;
     stats.single_beams += first != second;
   }
-  sweep.computeRanges();
+  sweep.computeRanges(Eigen::Vector3f::Zero());
   return stats;
 }
 

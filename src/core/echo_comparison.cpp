@@ -6,9 +6,13 @@ namespace ohm_mirror_detector3d
 {
 namespace core
 {
-std::size_t compareEchoes(const Sweep& sweep, const Params& params, SweepLabels& labels)
+EchoComparison::EchoComparison(const EchoComparisonConfig& config) : threshold_(static_cast<float>(config.threshold))
 {
-  const float threshold = static_cast<float>(params.echo_threshold);
+}
+
+std::size_t EchoComparison::apply(const Sweep& sweep, SweepLabels& labels) const
+{
+  const float threshold = threshold_;
   const std::vector<float>& range1 = sweep.echoes[0].ranges;
   const std::vector<float>& range2 = sweep.echoes[1].ranges;
   std::vector<Label>& label1 = labels.echoes[0];

@@ -1,5 +1,5 @@
 // Object extraction (separateObject of the paper). Conventions of the objects made here:
-// - plane: least-squares (PCA) plane of the patch, unit normal towards sweep.origin;
+// - plane: least-squares (PCA) plane of the patch, unit normal towards the sensor origin;
 // - rectangle: minimum-area rectangle of the patch's points projected into that plane,
 //   each extent grown by the patch's typical sampling spacing (see buildObject);
 // - width_axis: the rectangle side with the smaller |z| (more horizontal); on a plane within
@@ -461,7 +461,11 @@ void ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_norma
     object.surface_inliers[m - begin] = refs[static_cast<std::size_t>(inliers[patch_members[m]])];
 }
 
-void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const SweepLabels& labels,
+ObjectExtractor::ObjectExtractor(const ObjectExtractionConfig& config) : config_(config)
+{
+}
+
+void ObjectExtractor::extract(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                               std::vector<ReflectiveObject>& objects)
 {
   objects.clear();
@@ -471,7 +475,7 @@ void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const Sw
   ws.gather(sweep, labels);
 
   // Three points span a plane; Params::validate() refuses fewer, this guards direct callers.
-  const std::size_t min_points = static_cast<std::size_t>(std::max(params.min_object_points, 3));
+  const std::size_t min_points = static_cast<std::size_t>(std::max(config_.min_object_points, 3));
   // Every pass assigns at least min_points (>= 3) points or stops, so the loop ends.
   while (ws.remaining.size() >= min_points)
   {
@@ -490,7 +494,7 @@ void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const Sw
     }
     pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
         new CountingPlaneModel(ws.cloud, ws.remaining, ws.remaining_x, ws.remaining_y, ws.remaining_z));
-    pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, params.plane_threshold);
+    pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, config_.plane_threshold);
     ransac.setMaxIterations(kRansacMaxIterations);
     if (!ransac.computeModel())
       break;
@@ -502,7 +506,7 @@ void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const Sw
     if (ws.inliers.size() >= 3)
     {
       model->optimizeModelCoefficients(ws.inliers, ws.coefficients, ws.refined_coefficients);
-      model->selectWithinDistance(ws.refined_coefficients, params.plane_threshold, ws.refined_inliers);
+      model->selectWithinDistance(ws.refined_coefficients, config_.plane_threshold, ws.refined_inliers);
       if (ws.refined_inliers.size() >= ws.inliers.size() && ws.refined_coefficients.allFinite())
       {
         std::swap(ws.inliers, ws.refined_inliers);
@@ -523,7 +527,7 @@ void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const Sw
       break;
 
     const Eigen::Vector3f ransac_normal = ws.coefficients.head<3>();
-    const std::size_t patch_count = ws.splitPatches(params.outlier_radius);
+    const std::size_t patch_count = ws.splitPatches(config_.connection_distance);
     for (std::uint32_t patch = 0; patch < patch_count; ++patch)
     {
       if (ws.patch_start[patch + 1] - ws.patch_start[patch] < min_points)
@@ -531,7 +535,7 @@ void ObjectExtractor::extract(const Sweep& sweep, const Params& params, const Sw
       objects.emplace_back();
       ReflectiveObject& object = objects.back();
       object.id = static_cast<std::uint32_t>(objects.size() - 1);
-      ws.buildObject(ransac_normal, sweep.origin, patch, object);
+      ws.buildObject(ransac_normal, sensor_origin, patch, object);
     }
 
     ws.remaining.erase(std::remove_if(ws.remaining.begin(), ws.remaining.end(),

@@ -408,7 +408,7 @@ struct ObjectTypeAnalyzer::Buffers
                          ReflectiveObject& object);
 };
 
-ObjectTypeAnalyzer::ObjectTypeAnalyzer() : buffers_(new Buffers)
+ObjectTypeAnalyzer::ObjectTypeAnalyzer(const ObjectTypeConfig& config) : config_(config), buffers_(new Buffers)
 {
 }
 ObjectTypeAnalyzer::~ObjectTypeAnalyzer() = default;
@@ -433,7 +433,7 @@ void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
   b.boxes_beams = beams;
 }
 
-void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const SweepLabels& labels,
+void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                                  ReflectiveObject& object)
 {
   Buffers& b = *buffers_;
@@ -444,13 +444,13 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
   evidence = TypeEvidence();
   object.type = ObjectType::unknown;
 
-  const float plane_threshold = static_cast<float>(params.plane_threshold);
-  const float margin = static_cast<float>(params.vision_cone_margin);
-  const float max_distance = static_cast<float>(params.icp_max_distance);
-  const std::size_t min_points = static_cast<std::size_t>(params.icp_min_points);
+  const float plane_threshold = static_cast<float>(config_.plane_threshold);
+  const float margin = static_cast<float>(config_.cone_margin);
+  const float max_distance = static_cast<float>(config_.icp_max_distance);
+  const std::size_t min_points = static_cast<std::size_t>(config_.icp_min_points);
 
   b.all_behind.clear();
-  const VisionCone cone(object, sweep.origin, plane_threshold, margin);
+  const VisionCone cone(object, sensor_origin, plane_threshold, margin);
   Eigen::AlignedBox3f landing_zone;
   Eigen::Vector3f direction_sum = Eigen::Vector3f::Zero();
   const std::size_t beams = sweep.beamCount();
@@ -477,7 +477,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
       const Eigen::Vector3f mirrored = object.reflect(p);
       b.all_behind.push_back(p);
       landing_zone.extend(mirrored);
-      direction_sum += (mirrored - sweep.origin).normalized();
+      direction_sum += (mirrored - sensor_origin).normalized();
     }
   }
   evidence.mirrored_points = b.all_behind.size();
@@ -503,7 +503,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
   const Eigen::Vector3f mean_direction = direction_sum.normalized();
   float min_cosine = 1.0f;
   for (const Eigen::Vector3f& p : b.all_behind)
-    min_cosine = std::min(min_cosine, (object.reflect(p) - sweep.origin).normalized().dot(mean_direction));
+    min_cosine = std::min(min_cosine, (object.reflect(p) - sensor_origin).normalized().dot(mean_direction));
 
   // d.m >= c |d| without a square root per point (c may be negative for a very wide spread).
   const float min_cosine_squared = min_cosine * min_cosine;
@@ -544,7 +544,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
       if (!(cone.side(p) > plane_threshold))
         continue;
       // Only whether there are icp_min_points matters.
-      if (seen_in_their_directions < min_points && inTheirDirections(p - sweep.origin))
+      if (seen_in_their_directions < min_points && inTheirDirections(p - sensor_origin))
         ++seen_in_their_directions;
       if (landing_zone.contains(p) && b.landing.contains(p))
         b.candidates.push_back(p);
@@ -572,7 +572,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
   // Shares of the sample within max_distance of a real point before ICP, and after it.
   double unused = 0.0;
   const float fraction_before_icp = static_cast<float>(b.countMatches(b.mirrored, unused)) / samples;
-  const float min_fraction = static_cast<float>(params.icp_min_inlier_fraction);
+  const float min_fraction = static_cast<float>(config_.icp_min_inlier_fraction);
   // Once ICP has moved the phantoms further than a mirror's may move, the object is no
   // mirror; if enough of them matched before ICP it is no glass either, and nothing ICP does
   // next can change that: it may stop there (on scenes where it slides along a floor, most of
@@ -592,14 +592,14 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Params& params, const
   const bool small_correction =
       correction.translation().norm() <= max_distance && correction_angle <= kMaxCorrectionAngle;
   const bool fits = evidence.icp_converged && small_correction && evidence.inlier_fraction >= min_fraction &&
-                    evidence.icp_fitness <= static_cast<float>(params.icp_fitness_threshold);
+                    evidence.icp_fitness <= static_cast<float>(config_.icp_fitness_threshold);
   if (fits)
   {
     object.type = ObjectType::mirror;
     b.surface.clear();
     for (const PointRef& ref : object.surface_inliers)
       b.surface.push_back(sweep.echoes[ref.echo].points[ref.beam]);
-    b.refineMirrorPlane(sweep.origin, max_distance, phantom_weight, object);
+    b.refineMirrorPlane(sensor_origin, max_distance, phantom_weight, object);
   }
   else if (std::max(fraction_before_icp, evidence.inlier_fraction) < kGlassFractionOfRequired * min_fraction)
     object.type = ObjectType::glass;

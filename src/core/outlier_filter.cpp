@@ -122,14 +122,14 @@ constexpr std::uint32_t kBoxTestMinPoints = 2 * kBlock;
 
 }  // namespace
 
-std::size_t OutlierFilter::apply(const Sweep& sweep, const Params& params, Label subject, SweepLabels& labels)
+std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels& labels)
 {
   // With n_inlier <= 0 nobody can have too few neighbours; relabelling nanPoint as
   // nanPoint changes nothing.
-  if (params.outlier_min_neighbors <= 0 || subject == Label::nanPoint)
+  if (config_.min_neighbors <= 0 || subject == Label::nanPoint)
     return 0;
 
-  const double radius = params.outlier_radius;
+  const double radius = config_.radius;
   // A NaN or negative radius has no neighbours in it; r = 0 still holds exact duplicates
   // of other beams. Any cell at least r wide is correct, so a degenerate r gets 1 m cells.
   const float r2 = radius >= 0.0 ? static_cast<float>(radius * radius) : -1.0f;
@@ -145,7 +145,7 @@ std::size_t OutlierFilter::apply(const Sweep& sweep, const Params& params, Label
   buildGrid();
 
   // The point itself is always within r of itself, so it needs n_inlier + 1 including itself.
-  const std::size_t need = static_cast<std::size_t>(params.outlier_min_neighbors) + 1;
+  const std::size_t need = static_cast<std::size_t>(config_.min_neighbors) + 1;
 
   const float* xs = sorted_x_.data();
   const float* ys = sorted_y_.data();

@@ -3,9 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 #include <string>
-
-#include "ohm_mirror_detector3d/core/echo_comparison.h"
-#include "ohm_mirror_detector3d/core/range_gate.h"
+#include <utility>
 
 namespace ohm_mirror_detector3d
 {
@@ -13,22 +11,11 @@ namespace core
 {
 namespace
 {
-using Clock = std::chrono::steady_clock;
-
-// Seconds since `start`; moves `start` to now, so consecutive calls time consecutive stages.
-double lap(Clock::time_point& start)
-{
-  const Clock::time_point now = Clock::now();
-  const double seconds = std::chrono::duration<double>(now - start).count();
-  start = now;
-  return seconds;
-}
-
-void throwIfInvalid(const Params& params)
+const Params& checked(const Params& params)
 {
   const std::vector<std::string> errors = params.validate();
   if (errors.empty())
-    return;
+    return params;
   std::string message = "invalid pre-filter parameters:";
   for (const std::string& error : errors)
     message += "\n  " + error;
@@ -36,49 +23,106 @@ void throwIfInvalid(const Params& params)
 }
 }  // namespace
 
-Pipeline::Pipeline(const Params& params)
+class Pipeline::StageClock
 {
-  setParams(params);
+public:
+  using Clock = std::chrono::steady_clock;
+
+  StageClock() : begin_(Clock::now()), last_(begin_) {}
+
+  // Seconds since the previous lap (or the start), so consecutive calls time consecutive stages.
+  double lap()
+  {
+    const Clock::time_point now = Clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return seconds;
+  }
+  // From the start to the last lap.
+  double total() const { return std::chrono::duration<double>(last_ - begin_).count(); }
+
+private:
+  Clock::time_point begin_;
+  Clock::time_point last_;
+};
+
+Pipeline::Stages::Stages(const StageConfigs& configs)
+  : range_gate(configs.range_gate)
+  , outlier_filter(configs.outlier_filter)
+  , echo_comparison(configs.echo_comparison)
+  , object_extractor(configs.object_extraction)
+  , type_analyzer(configs.object_type)
+  , cone_labelling(configs.cone_labelling)
+{
+}
+
+Pipeline::Pipeline(const Params& params) : params_(checked(params)), stages_(stageConfigs(params_))
+{
 }
 
 void Pipeline::setParams(const Params& params)
 {
-  throwIfInvalid(params);
+  Stages stages(stageConfigs(checked(params)));
+  stages_ = std::move(stages);
   params_ = params;
 }
 
-const PipelineResult& Pipeline::process(const Sweep& sweep)
+void Pipeline::addObjectStage(std::unique_ptr<ObjectStage> stage)
+{
+  object_stages_.push_back(std::move(stage));
+}
+
+const PipelineResult& Pipeline::process(const Sweep& sweep, const SweepContext& context)
+{
+  result_.times = StageTimes();
+  StageClock clock;
+  const Eigen::Vector3f sensor_origin = context.sensorOrigin();
+  detect(sweep, sensor_origin, clock);
+  runObjectStages(sweep, context, clock);
+  label(sweep, sensor_origin, clock);
+  result_.times.total = clock.total();
+  return result_;
+}
+
+void Pipeline::detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, StageClock& clock)
 {
   PipelineResult& r = result_;
-  r.times = StageTimes();
-  const Clock::time_point begin = Clock::now();
-  Clock::time_point t = begin;
+  Stages& s = stages_;
   r.labels.reset(sweep.beamCount());
   r.objects.clear();
-  r.range_gated_points = applyRangeGate(sweep, params_, r.labels);
-  r.times.range_gate = lap(t);
-  r.outlier_points = outlier_filter_.apply(sweep, params_, Label::unchecked, r.labels);
-  r.times.outlier_filter = lap(t);
-  r.error_surface_points = compareEchoes(sweep, params_, r.labels);
-  r.times.echo_comparison = lap(t);
-  if (r.error_surface_points >= static_cast<std::size_t>(params_.min_object_points))
-  {
-    r.outlier_points += outlier_filter_.apply(sweep, params_, Label::errorSurface, r.labels);
-    r.times.outlier_filter += lap(t);
-    object_extractor_.extract(sweep, params_, r.labels, r.objects);
-    r.times.object_extraction = lap(t);
-    if (!r.objects.empty())
-      type_analyzer_.beginSweep(sweep);
-    for (ReflectiveObject& object : r.objects)
-      type_analyzer_.analyze(sweep, params_, r.labels, object);
-    r.times.type_analysis = lap(t);
-  }
-  labelByVisionCones(sweep, params_, r.objects, r.labels, r.assignment);
-  r.times.cone_labelling = lap(t);
+  r.range_gated_points = s.range_gate.apply(sweep, r.labels);
+  r.times.range_gate = clock.lap();
+  r.outlier_points = s.outlier_filter.apply(sweep, Label::unchecked, r.labels);
+  r.times.outlier_filter = clock.lap();
+  r.error_surface_points = s.echo_comparison.apply(sweep, r.labels);
+  r.times.echo_comparison = clock.lap();
+  if (r.error_surface_points < static_cast<std::size_t>(params_.min_object_points))
+    return;
+  r.outlier_points += s.outlier_filter.apply(sweep, Label::errorSurface, r.labels);
+  r.times.outlier_filter += clock.lap();
+  s.object_extractor.extract(sweep, sensor_origin, r.labels, r.objects);
+  r.times.object_extraction = clock.lap();
+  if (!r.objects.empty())
+    s.type_analyzer.beginSweep(sweep);
+  for (ReflectiveObject& object : r.objects)
+    s.type_analyzer.analyze(sweep, sensor_origin, r.labels, object);
+  r.times.type_analysis = clock.lap();
+}
+
+void Pipeline::runObjectStages(const Sweep& sweep, const SweepContext& context, StageClock& clock)
+{
+  for (const std::unique_ptr<ObjectStage>& stage : object_stages_)
+    stage->process(sweep, context, result_.labels, result_.objects);
+  result_.times.object_stages = clock.lap();
+}
+
+void Pipeline::label(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, StageClock& clock)
+{
+  PipelineResult& r = result_;
+  stages_.cone_labelling.apply(sweep, sensor_origin, r.objects, r.labels, r.assignment);
+  r.times.cone_labelling = clock.lap();
   collectCleaned(sweep, r.labels, r.objects, r.assignment, r.cleaned);
-  r.times.cleaned_output = lap(t);
-  r.times.total = std::chrono::duration<double>(t - begin).count();
-  return r;
+  r.times.cleaned_output = clock.lap();
 }
 
 }  // namespace core

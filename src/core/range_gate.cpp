@@ -1,15 +1,18 @@
 #include "ohm_mirror_detector3d/core/range_gate.h"
 
-#include <cmath>
-
 namespace ohm_mirror_detector3d
 {
 namespace core
 {
-std::size_t applyRangeGate(const Sweep& sweep, const Params& params, SweepLabels& labels)
+RangeGate::RangeGate(const RangeGateConfig& config)
+  : min_range_(static_cast<float>(config.min_range)), max_range_(static_cast<float>(config.max_range))
 {
-  const float min_range = static_cast<float>(params.min_range);
-  const float max_range = static_cast<float>(params.max_range);
+}
+
+std::size_t RangeGate::apply(const Sweep& sweep, SweepLabels& labels) const
+{
+  const float min_range = min_range_;
+  const float max_range = max_range_;
   std::size_t gated = 0;
   for (std::size_t k = 0; k < 2; ++k)
   {

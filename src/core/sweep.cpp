@@ -20,7 +20,7 @@ void Sweep::resize(std::size_t new_rows, std::size_t new_cols)
   }
 }
 
-void Sweep::computeRanges()
+void Sweep::computeRanges(const Eigen::Vector3f& sensor_origin)
 {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (EchoCloud& echo : echoes)
@@ -28,7 +28,7 @@ void Sweep::computeRanges()
     for (std::size_t i = 0; i < echo.points.size(); ++i)
     {
       const Eigen::Vector3f& p = echo.points[i];
-      echo.ranges[i] = p.allFinite() ? (p - origin).norm() : nan;
+      echo.ranges[i] = p.allFinite() ? (p - sensor_origin).norm() : nan;
     }
   }
 }

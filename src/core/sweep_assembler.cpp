@@ -143,7 +143,7 @@ SweepAssembler::AddResult SweepAssembler::add(const ProjectedScan& scan)
   return result;
 }
 
-std::size_t SweepAssembler::takeSweep(Sweep& sweep, std::uint64_t& last_stamp_ns)
+std::size_t SweepAssembler::takeSweep(Sweep& sweep, SweepContext& context)
 {
   const std::size_t rows = complete_.rows;
   if (rows == 0)
@@ -158,10 +158,12 @@ std::size_t SweepAssembler::takeSweep(Sweep& sweep, std::uint64_t& last_stamp_ns
     echo.ranges.resize(echo.points.size());
   }
   sweep.has_intensity = complete_.has_intensity;
-  sweep.origin = (complete_.origin_sum / static_cast<double>(rows)).cast<float>();
   sweep.input_cells.clear();
-  sweep.computeRanges();
-  last_stamp_ns = complete_.last_stamp_ns;
+  const Eigen::Vector3d origin = complete_.origin_sum / static_cast<double>(rows);
+  context.stamp_ns = complete_.last_stamp_ns;
+  context.sensor_pose = Eigen::Isometry3d::Identity();
+  context.sensor_pose.translation() = origin;
+  sweep.computeRanges(context.sensorOrigin());
   complete_.clear();
   return rows;
 }

@@ -312,14 +312,13 @@ public:
       std::int64_t bad[2];
       {
         sweep_.resize(rows1, cols1);
-        sweep_.origin.setZero();
         sweep_.input_cells.clear();
         bad[0] = copyPoints(points1, sweep_.echoes[0].points);
         bad[1] = copyPoints(points2, sweep_.echoes[1].points);
         copyIntensities(i1_data, sweep_.echoes[0].intensities);
         copyIntensities(i2_data, sweep_.echoes[1].intensities);
         sweep_.has_intensity = i1_data != nullptr && i2_data != nullptr;
-        sweep_.computeRanges();
+        sweep_.computeRanges(context_.sensorOrigin());
       }
       for (int k = 0; k < 2; ++k)
         if (bad[k] >= 0)
@@ -327,7 +326,7 @@ public:
           py::gil_scoped_acquire acquire;
           throwPartlyFinite(k == 0 ? "echo1" : "echo2", bad[k], sweep_.echoes[k].points[static_cast<std::size_t>(bad[k])]);
         }
-      const core::PipelineResult& r = pipeline_.process(sweep_);
+      const core::PipelineResult& r = pipeline_.process(sweep_, context_);
       // Every point of both echoes, echo 1 then echo 2, in beam order (as toLabelledCloud).
       for (std::size_t k = 0; k < 2; ++k)
         for (std::size_t i = 0; i < n; ++i)
@@ -379,7 +378,7 @@ public:
       input_.returns.assign(returns_data, returns_data + n);
       input_.rings.assign(rings_data, rings_data + n);
       const core::DualReturnStats binning = core::binDualReturns(input_, azimuth_resolution_deg, sweep_);
-      const core::PipelineResult& r = pipeline_.process(sweep_);
+      const core::PipelineResult& r = pipeline_.process(sweep_, context_);
       // The input's order and count; points in no grid cell are nanPoint, echo 0 (toLabelledCloud).
       for (std::size_t i = 0; i < n; ++i)
       {
@@ -411,6 +410,8 @@ private:
   std::mutex mutex_;
   core::Pipeline pipeline_;
   core::Sweep sweep_;
+  // Arrays from Python carry no stamp or frame; their points are in the scanner's frame.
+  const core::SweepContext context_;
   core::DualReturnInput input_;
 };
 }  // namespace

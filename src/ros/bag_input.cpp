@@ -16,6 +16,7 @@
 #include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/dual_return.h"
 #include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
+#include "ohm_mirror_detector3d/ros/message_pipeline.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -72,7 +73,7 @@ public:
     if (pair)
       problem = echoPairToSweep(*pair, sweep);
     if (problem.empty())
-      sink.sweepReady(pair->header, message.getTime());
+      sink.sweepReady(pair->header, sensorFrameContext(pair->header), message.getTime());
     else
       sink.sweepDropped(problem, message.getTime());
   }
@@ -123,7 +124,7 @@ public:
     pending_[other].erase(partner);
     problem = echoCloudsToSweep(*echo1, *echo2, sweep);
     if (problem.empty())
-      sink.sweepReady(echo1->header, message.getTime());
+      sink.sweepReady(echo1->header, sensorFrameContext(echo1->header), message.getTime());
     else
       sink.sweepDropped(problem, message.getTime());
   }
@@ -189,7 +190,7 @@ public:
     }
     // Points binning could not place are the nodelet's warning; here they are only counted
     // when the whole cloud is unusable (above).
-    sink.sweepReady(cloud->header, message.getTime());
+    sink.sweepReady(cloud->header, sensorFrameContext(cloud->header), message.getTime());
   }
 
 private:
@@ -228,7 +229,7 @@ public:
       problem = "message on " + message.getTopic() + " cannot be read: " + e.what();
     }
     if (problem.empty())
-      sink.sweepReady(header, message.getTime());
+      sink.sweepReady(header, sensorFrameContext(header), message.getTime());
     else
       sink.sweepDropped(message.getDataType() + ": " + problem, message.getTime());
   }
@@ -294,9 +295,9 @@ public:
       }
     }
     const ros::Time bag_time = message.getTime();
-    scans_.drain([&](core::Sweep& assembled, const std_msgs::Header& header) {
+    scans_.drain([&](core::Sweep& assembled, const std_msgs::Header& header, const core::SweepContext& context) {
       std::swap(sweep, assembled);
-      sink.sweepReady(header, bag_time);
+      sink.sweepReady(header, context, bag_time);
     });
   }
 

@@ -176,10 +176,11 @@ public:
   // Called before each input message, so that a sweep's time includes its conversion.
   void startMessage() { message_start_ = Clock::now(); }
 
-  void sweepReady(const std_msgs::Header& header, const ros::Time& bag_time) override
+  void sweepReady(const std_msgs::Header& header, const core::SweepContext& context,
+                  const ros::Time& bag_time) override
   {
     OutputMessages outputs;
-    const core::PipelineResult& result = pipeline_.process(header, OutputRequest(), outputs);
+    const core::PipelineResult& result = pipeline_.process(header, context, OutputRequest(), outputs);
     const double seconds = secondsSince(message_start_);
     summary_.sweep_seconds.push_back(seconds);
     ++summary_.sweeps_processed;

@@ -131,8 +131,7 @@ std::string echoCloudsToSweep(const sensor_msgs::PointCloud2& echo1, const senso
   sweep.cols = size1 == 0 ? 0 : echo1.width;
   sweep.has_intensity = intensity1 && intensity2;
   sweep.input_cells.clear();
-  sweep.origin.setZero();
-  sweep.computeRanges();
+  sweep.computeRanges(Eigen::Vector3f::Zero());
   return "";
 }
 

@@ -146,8 +146,7 @@ std::string Hokuyo3dLegacyDecoder::decode(const std::string& datatype, const std
   }
   sweep.has_intensity = has_intensity;
   sweep.input_cells.clear();
-  sweep.origin.setZero();
-  sweep.computeRanges();
+  sweep.computeRanges(Eigen::Vector3f::Zero());
   return "";
 }
 

@@ -6,14 +6,22 @@ namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
+core::SweepContext sensorFrameContext(const std_msgs::Header& header)
+{
+  core::SweepContext context;
+  context.stamp_ns = header.stamp.toNSec();
+  context.frame_id = header.frame_id;
+  return context;
+}
+
 MessagePipeline::MessagePipeline(const core::Params& params) : pipeline_(params)
 {
 }
 
-const core::PipelineResult& MessagePipeline::process(const std_msgs::Header& header, const OutputRequest& request,
-                                                     OutputMessages& outputs)
+const core::PipelineResult& MessagePipeline::process(const std_msgs::Header& header, const core::SweepContext& context,
+                                                     const OutputRequest& request, OutputMessages& outputs)
 {
-  const core::PipelineResult& result = pipeline_.process(sweep_);
+  const core::PipelineResult& result = pipeline_.process(sweep_, context);
   outputs = OutputMessages();
   if (request.labelled)
   {

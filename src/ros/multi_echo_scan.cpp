@@ -284,12 +284,13 @@ void MultiEchoScanInput::drain(const SweepSink& sink)
         break;
       case core::SweepAssembler::AddResult::sweep_complete:
       {
-        std::uint64_t stamp_ns = 0;
-        assembler_.takeSweep(sweep_, stamp_ns);
+        core::SweepContext context;
+        context.frame_id = options_.sweep_frame;
+        assembler_.takeSweep(sweep_, context);
         std_msgs::Header header;
-        header.frame_id = options_.sweep_frame;
-        header.stamp.fromNSec(stamp_ns);
-        sink(sweep_, header);
+        header.frame_id = context.frame_id;
+        header.stamp.fromNSec(context.stamp_ns);
+        sink(sweep_, header, context);
         break;
       }
       case core::SweepAssembler::AddResult::added:

@@ -278,10 +278,10 @@ void PreFilterNodelet::onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::Co
       stats_.recordDropped("scan: " + problem);
     }
   }
-  scan_input_->drain([this](core::Sweep& sweep, const std_msgs::Header& header) {
+  scan_input_->drain([this](core::Sweep& sweep, const std_msgs::Header& header, const core::SweepContext& context) {
     std::lock_guard<std::mutex> lock(pipeline_mutex_);
     std::swap(pipeline_.sweep(), sweep);
-    processAndPublish(header);
+    processAndPublish(header, context);
   });
 }
 
@@ -322,19 +322,22 @@ void PreFilterNodelet::onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr
   processAndPublish(header);
 }
 
-bool PreFilterNodelet::placeSensorOrigin(const std_msgs::Header& header)
+bool PreFilterNodelet::placeSensor(const std_msgs::Header& header, core::SweepContext& context)
 {
-  core::Sweep& sweep = pipeline_.sweep();
   if (sensor_frame_.empty() || sensor_frame_ == header.frame_id)
     return true;
   try
   {
-    const geometry_msgs::TransformStamped sensor =
-        sensor_tf_buffer_->lookupTransform(header.frame_id, sensor_frame_, header.stamp, ros::Duration(kTfWaitSeconds));
-    const geometry_msgs::Vector3& position = sensor.transform.translation;
-    sweep.origin = Eigen::Vector3f(static_cast<float>(position.x), static_cast<float>(position.y),
-                                   static_cast<float>(position.z));
-    sweep.computeRanges();
+    const geometry_msgs::Transform sensor =
+        sensor_tf_buffer_->lookupTransform(header.frame_id, sensor_frame_, header.stamp, ros::Duration(kTfWaitSeconds))
+            .transform;
+    context.sensor_pose = Eigen::Isometry3d::Identity();
+    context.sensor_pose.linear() =
+        Eigen::Quaterniond(sensor.rotation.w, sensor.rotation.x, sensor.rotation.y, sensor.rotation.z)
+            .normalized()
+            .toRotationMatrix();
+    context.sensor_pose.translation() = Eigen::Vector3d(sensor.translation.x, sensor.translation.y, sensor.translation.z);
+    pipeline_.sweep().computeRanges(context.sensorOrigin());
     return true;
   }
   catch (const tf2::TransformException& error)
@@ -366,7 +369,12 @@ void PreFilterNodelet::reportInputProblem(bool dropped, const std::string& what,
 
 void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
 {
-  if (!placeSensorOrigin(header))
+  processAndPublish(header, ros_io::sensorFrameContext(header));
+}
+
+void PreFilterNodelet::processAndPublish(const std_msgs::Header& header, core::SweepContext context)
+{
+  if (!placeSensor(header, context))
     return;
   ros_io::OutputRequest request;
   request.labelled = labelled_pub_.getNumSubscribers() > 0;
@@ -375,7 +383,7 @@ void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
   request.markers = markers_pub_.getNumSubscribers() > 0;
   ros_io::OutputMessages outputs;
   const auto start = ros_io::ProcessingStats::Clock::now();
-  const core::PipelineResult& result = pipeline_.process(header, request, outputs);
+  const core::PipelineResult& result = pipeline_.process(header, context, request, outputs);
   const double seconds = std::chrono::duration<double>(ros_io::ProcessingStats::Clock::now() - start).count();
   stats_.recordProcessed(seconds, result.objects.size(), pipeline_.sweep().beamCount() * 2);
   if (outputs.labelled)

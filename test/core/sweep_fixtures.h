@@ -30,7 +30,7 @@ inline core::Sweep makeSweep(const std::vector<Beam>& beams)
     sweep.echoes[0].intensities[i] = static_cast<float>(i);
     sweep.echoes[1].intensities[i] = static_cast<float>(i);
   }
-  sweep.computeRanges();
+  sweep.computeRanges(Eigen::Vector3f::Zero());
   return sweep;
 }
 

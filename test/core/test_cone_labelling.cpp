@@ -2,6 +2,7 @@
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 #include "object_fixtures.h"
 #include "sweep_fixtures.h"
@@ -70,7 +71,8 @@ Labelled label(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& ob
     out.labels.echoes[0][i] = before[i].first;
     out.labels.echoes[1][i] = before[i].second;
   }
-  core::labelByVisionCones(sweep, core::Params(), objects, out.labels, out.assignment);
+  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
+      .apply(sweep, Eigen::Vector3f::Zero(), objects, out.labels, out.assignment);
   return out;
 }
 

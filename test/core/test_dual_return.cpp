@@ -201,7 +201,7 @@ TEST_F(DualReturn, EmptyCloudGivesAnEmptySweepThePipelineAccepts)
   EXPECT_EQ(stats.points, 0u);
   EXPECT_EQ(sweep_.beamCount(), 0u);
   core::Pipeline pipeline;
-  const core::PipelineResult& result = pipeline.process(sweep_);
+  const core::PipelineResult& result = pipeline.process(sweep_, core::SweepContext());
   EXPECT_TRUE(result.objects.empty());
   EXPECT_TRUE(result.cleaned.empty());
 }

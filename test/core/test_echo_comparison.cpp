@@ -2,6 +2,7 @@
 
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "sweep_fixtures.h"
 
 namespace ohm_mirror_detector3d
@@ -23,8 +24,9 @@ Compared compare(const core::Sweep& sweep, const core::Params& params = core::Pa
 {
   Compared out;
   out.labels.reset(sweep.beamCount());
-  core::applyRangeGate(sweep, params, out.labels);
-  out.affected = core::compareEchoes(sweep, params, out.labels);
+  const core::StageConfigs configs = core::stageConfigs(params);
+  core::RangeGate(configs.range_gate).apply(sweep, out.labels);
+  out.affected = core::EchoComparison(configs.echo_comparison).apply(sweep, out.labels);
   return out;
 }
 

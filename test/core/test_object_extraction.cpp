@@ -6,6 +6,7 @@
 #include <random>
 
 #include "ohm_mirror_detector3d/core/object_extraction.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "sweep_fixtures.h"
 
 namespace ohm_mirror_detector3d
@@ -99,9 +100,9 @@ struct Scene
 
 std::vector<ReflectiveObject> extract(const Scene& scene, const core::Params& params = core::Params())
 {
-  core::ObjectExtractor extractor;
+  core::ObjectExtractor extractor(core::stageConfigs(params).object_extraction);
   std::vector<ReflectiveObject> objects;
-  extractor.extract(scene.sweep(), params, scene.labels(), objects);
+  extractor.extract(scene.sweep(), Vector3f::Zero(), scene.labels(), objects);
   return objects;
 }
 
@@ -424,11 +425,12 @@ TEST(ObjectExtraction, IsDeterministic)
   const Scene scene = busyScene(11);
   const core::Sweep sweep = scene.sweep();
   const core::SweepLabels labels = scene.labels();
-  core::ObjectExtractor extractor;
+  const core::ObjectExtractionConfig config = core::stageConfigs(core::Params()).object_extraction;
+  core::ObjectExtractor extractor(config);
   std::vector<ReflectiveObject> first, second, fresh;
-  extractor.extract(sweep, core::Params(), labels, first);
-  extractor.extract(sweep, core::Params(), labels, second);
-  core::ObjectExtractor().extract(sweep, core::Params(), labels, fresh);
+  extractor.extract(sweep, Vector3f::Zero(), labels, first);
+  extractor.extract(sweep, Vector3f::Zero(), labels, second);
+  core::ObjectExtractor(config).extract(sweep, Vector3f::Zero(), labels, fresh);
   ASSERT_EQ(first.size(), 2u);
   expectSameObjects(first, second);
   expectSameObjects(first, fresh);
@@ -444,13 +446,13 @@ TEST(ObjectExtraction, ReusesItsBuffersAcrossSweeps)
   Scene c;                            // smaller than both
   c.add(lattice(wallMirror(), 3.0f * kCm));
 
-  core::ObjectExtractor extractor;
+  core::ObjectExtractor extractor(core::stageConfigs(core::Params()).object_extraction);
   std::vector<ReflectiveObject> a1, b1, c1, a2;
-  extractor.extract(a.sweep(), core::Params(), a.labels(), a1);
-  extractor.extract(b.sweep(), core::Params(), b.labels(), b1);
-  extractor.extract(c.sweep(), core::Params(), c.labels(), c1);
+  extractor.extract(a.sweep(), Vector3f::Zero(), a.labels(), a1);
+  extractor.extract(b.sweep(), Vector3f::Zero(), b.labels(), b1);
+  extractor.extract(c.sweep(), Vector3f::Zero(), c.labels(), c1);
   a2.resize(7);  // cleared first
-  extractor.extract(a.sweep(), core::Params(), a.labels(), a2);
+  extractor.extract(a.sweep(), Vector3f::Zero(), a.labels(), a2);
   expectSameObjects(a1, a2);
   expectSameObjects(b1, extract(b));
   expectSameObjects(c1, extract(c));

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "ohm_mirror_detector3d/core/object_type.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "object_fixtures.h"
 #include "sweep_fixtures.h"
 
@@ -65,8 +66,8 @@ struct Scene
       sweep_labels.echoes[0][i] = labels[i].first;
       sweep_labels.echoes[1][i] = labels[i].second;
     }
-    core::ObjectTypeAnalyzer analyzer;
-    analyzer.analyze(sweep, core::Params(), sweep_labels, object);
+    core::ObjectTypeAnalyzer analyzer(core::stageConfigs(core::Params()).object_type);
+    analyzer.analyze(sweep, Eigen::Vector3f::Zero(), sweep_labels, object);
     return object.type;
   }
 };

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "sweep_fixtures.h"
 
 namespace ohm_mirror_detector3d
@@ -35,6 +36,12 @@ core::Params outlierParams(double radius, int min_neighbors)
   params.outlier_radius = radius;
   params.outlier_min_neighbors = min_neighbors;
   return params;
+}
+
+// The filter as the pipeline builds it from these parameters.
+core::OutlierFilter filterFor(const core::Params& params)
+{
+  return core::OutlierFilter(core::stageConfigs(params).outlier_filter);
 }
 
 // Finite points carry `subject`, the others nanPoint, as after the range gate.
@@ -133,8 +140,7 @@ TEST(OutlierFilter, RemovesAnIsolatedPointAndKeepsTheDensePatch)
   beams.push_back(single(Eigen::Vector3f(3.0f, 1.0f, 1.0f)));
   const core::Sweep sweep = test::makeSweep(beams);
   core::SweepLabels labels = labelsFor(sweep);
-  core::OutlierFilter filter;
-  EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 5), Label::unchecked, labels), 2u);
+  EXPECT_EQ(filterFor(outlierParams(0.1, 5)).apply(sweep, Label::unchecked, labels), 2u);
   EXPECT_EQ(labels.echoes[0].back(), Label::nanPoint);
   EXPECT_EQ(labels.echoes[1].back(), Label::nanPoint);
   for (int k = 0; k < 2; ++k)
@@ -157,7 +163,7 @@ TEST(OutlierFilter, KeepsAPointWithExactlyMinNeighborsAndRemovesOneWithOneFewer)
       beams.push_back(firstOnly(centre + around[i]));
     const core::Sweep sweep = test::makeSweep(beams);
     core::SweepLabels labels = labelsFor(sweep);
-    core::OutlierFilter().apply(sweep, outlierParams(0.1, 4), Label::unchecked, labels);
+    filterFor(outlierParams(0.1, 4)).apply(sweep, Label::unchecked, labels);
     EXPECT_EQ(labels.echoes[0][0], count == 4 ? Label::unchecked : Label::nanPoint) << count << " neighbours";
   }
 }
@@ -170,7 +176,7 @@ TEST(OutlierFilter, CountsANeighbourExactlyAtTheRadius)
                                               firstOnly(Eigen::Vector3f(4.0f, 10.0f, 0.0f)),
                                               firstOnly(Eigen::Vector3f(4.0f, 10.0f, 0.50390625f)) });
   core::SweepLabels labels = labelsFor(sweep);
-  EXPECT_EQ(core::OutlierFilter().apply(sweep, outlierParams(0.5, 1), Label::unchecked, labels), 2u);
+  EXPECT_EQ(filterFor(outlierParams(0.5, 1)).apply(sweep, Label::unchecked, labels), 2u);
   EXPECT_EQ(labels.echoes[0][0], Label::unchecked);
   EXPECT_EQ(labels.echoes[0][1], Label::unchecked);
   EXPECT_EQ(labels.echoes[0][2], Label::nanPoint);
@@ -190,7 +196,7 @@ TEST(OutlierFilter, JudgesAndCountsOnlySubjectPoints)
   labels.echoes[0][surface] = Label::errorSurface;
   labels.echoes[1][surface] = Label::errorSurface;
 
-  EXPECT_EQ(core::OutlierFilter().apply(sweep, outlierParams(0.1, 1), Label::errorSurface, labels), 2u);
+  EXPECT_EQ(filterFor(outlierParams(0.1, 1)).apply(sweep, Label::errorSurface, labels), 2u);
   EXPECT_EQ(labels.echoes[0][surface], Label::nanPoint);
   EXPECT_EQ(labels.echoes[1][surface], Label::nanPoint);
   for (int k = 0; k < 2; ++k)
@@ -201,41 +207,40 @@ TEST(OutlierFilter, ASingleReturnInBothEchoesIsOnePoint)
 {
   const Eigen::Vector3f a(2.0f, 0.0f, 0.0f);
   const Eigen::Vector3f b(2.0f, 0.05f, 0.0f);
-  core::OutlierFilter filter;
   {
     // Alone: the copy in the other echo is not a neighbour, both copies go.
     const core::Sweep sweep = test::makeSweep({ single(a) });
     core::SweepLabels labels = labelsFor(sweep);
-    EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 1), Label::unchecked, labels), 2u);
+    EXPECT_EQ(filterFor(outlierParams(0.1, 1)).apply(sweep, Label::unchecked, labels), 2u);
     EXPECT_EQ(labels.count(0, Label::nanPoint) + labels.count(1, Label::nanPoint), 2u);
   }
   {
     // Two beams: each has one neighbour (not two), both copies share the decision.
     const core::Sweep sweep = test::makeSweep({ single(a), single(b) });
     core::SweepLabels keep = labelsFor(sweep);
-    EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 1), Label::unchecked, keep), 0u);
+    EXPECT_EQ(filterFor(outlierParams(0.1, 1)).apply(sweep, Label::unchecked, keep), 0u);
     core::SweepLabels drop = labelsFor(sweep);
-    EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 2), Label::unchecked, drop), 4u);
+    EXPECT_EQ(filterFor(outlierParams(0.1, 2)).apply(sweep, Label::unchecked, drop), 4u);
   }
   {
     // A third point near a single return has one neighbour, not two.
     const core::Sweep sweep = test::makeSweep({ single(a), firstOnly(b) });
     core::SweepLabels labels = labelsFor(sweep);
-    filter.apply(sweep, outlierParams(0.1, 2), Label::unchecked, labels);
+    filterFor(outlierParams(0.1, 2)).apply(sweep, Label::unchecked, labels);
     EXPECT_EQ(labels.echoes[0][1], Label::nanPoint);
   }
   {
     // Equal points of different beams are two points and neighbours of each other.
     const core::Sweep sweep = test::makeSweep({ firstOnly(a), firstOnly(a) });
     core::SweepLabels labels = labelsFor(sweep);
-    EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 1), Label::unchecked, labels), 0u);
+    EXPECT_EQ(filterFor(outlierParams(0.1, 1)).apply(sweep, Label::unchecked, labels), 0u);
   }
   {
     // Only one copy is a subject: it is judged alone, the other copy keeps its label.
     const core::Sweep sweep = test::makeSweep({ single(a) });
     core::SweepLabels labels = labelsFor(sweep);
     labels.echoes[1][0] = Label::valid;
-    EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 1), Label::unchecked, labels), 1u);
+    EXPECT_EQ(filterFor(outlierParams(0.1, 1)).apply(sweep, Label::unchecked, labels), 1u);
     EXPECT_EQ(labels.echoes[0][0], Label::nanPoint);
     EXPECT_EQ(labels.echoes[1][0], Label::valid);
   }
@@ -250,7 +255,7 @@ TEST(OutlierFilter, DecidesOnTheLabelsBeforeTheCall)
     beams.push_back(single(Eigen::Vector3f(2.0f, 0.06f * i, 0.0f)));
   const core::Sweep sweep = test::makeSweep(beams);
   core::SweepLabels labels = labelsFor(sweep);
-  EXPECT_EQ(core::OutlierFilter().apply(sweep, outlierParams(0.1, 2), Label::unchecked, labels), 4u);
+  EXPECT_EQ(filterFor(outlierParams(0.1, 2)).apply(sweep, Label::unchecked, labels), 4u);
   for (std::size_t k = 0; k < 2; ++k)
   {
     EXPECT_EQ(labels.echoes[k].front(), Label::nanPoint);
@@ -271,7 +276,7 @@ TEST(OutlierFilter, RemovesNonFiniteSubjectPointsWithoutCountingThem)
   core::SweepLabels labels;
   labels.reset(sweep.beamCount(), Label::unchecked);
   labels.echoes[1][0] = labels.echoes[1][1] = labels.echoes[1][2] = Label::nanPoint;
-  EXPECT_EQ(core::OutlierFilter().apply(sweep, outlierParams(0.1, 3), Label::unchecked, labels), 7u);
+  EXPECT_EQ(filterFor(outlierParams(0.1, 3)).apply(sweep, Label::unchecked, labels), 7u);
   EXPECT_EQ(labels.count(0, Label::nanPoint), 5u);
   EXPECT_EQ(labels.count(1, Label::nanPoint), 5u);
 }
@@ -288,11 +293,11 @@ TEST(OutlierFilter, ReturnsHowManyPointsItLabelled)
   const core::Sweep sweep = test::makeSweep(beams);
   core::SweepLabels labels = labelsFor(sweep);
   labels.echoes[0].back() = Label::valid;
-  core::OutlierFilter filter;
-  EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 3), Label::unchecked, labels), 5u);
+  core::OutlierFilter filter = filterFor(outlierParams(0.1, 3));
+  EXPECT_EQ(filter.apply(sweep, Label::unchecked, labels), 5u);
   EXPECT_EQ(labels.echoes[0].back(), Label::valid);
   // Nothing left to remove the second time round.
-  EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 3), Label::unchecked, labels), 0u);
+  EXPECT_EQ(filter.apply(sweep, Label::unchecked, labels), 0u);
 }
 
 TEST(OutlierFilter, HandlesCloudsFarFromTheOriginAndOnNegativeCoordinates)
@@ -315,7 +320,7 @@ TEST(OutlierFilter, HandlesCloudsFarFromTheOriginAndOnNegativeCoordinates)
   core::SweepLabels labels = labelsFor(sweep);
   std::size_t expected_removed = 0;
   const core::SweepLabels expected = bruteForce(sweep, params, Label::unchecked, labels, expected_removed);
-  EXPECT_EQ(core::OutlierFilter().apply(sweep, params, Label::unchecked, labels), expected_removed);
+  EXPECT_EQ(filterFor(params).apply(sweep, Label::unchecked, labels), expected_removed);
   expectSameLabels(labels, expected);
   // Grid neighbours are 8.8 cm apart and every patch point has at least 2 of them.
   EXPECT_EQ(expected_removed, 6u);
@@ -337,7 +342,7 @@ TEST(OutlierFilter, FindsANeighbourThatFloatRoundingPutsJustBeyondTheRadius)
   const core::SweepLabels expected =
       bruteForce(sweep, outlierParams(radius, 1), Label::unchecked, labels, expected_removed);
   ASSERT_EQ(expected_removed, 1u);  // the pair counts as neighbours
-  EXPECT_EQ(core::OutlierFilter().apply(sweep, outlierParams(radius, 1), Label::unchecked, labels), 1u);
+  EXPECT_EQ(filterFor(outlierParams(radius, 1)).apply(sweep, Label::unchecked, labels), 1u);
   expectSameLabels(labels, expected);
 }
 
@@ -381,7 +386,6 @@ TEST(OutlierFilter, AgreesWithBruteForceOnRandomClouds)
   std::mt19937 rng(20240611);
   std::uniform_real_distribution<double> radius(0.02, 0.4);
   std::uniform_int_distribution<int> min_neighbors(1, 60);
-  core::OutlierFilter filter;  // one filter for all rounds: reuse must not matter
   for (int round = 0; round < 12; ++round)
   {
     const Label subject = round % 2 == 0 ? Label::unchecked : Label::errorSurface;
@@ -393,7 +397,7 @@ TEST(OutlierFilter, AgreesWithBruteForceOnRandomClouds)
     const core::SweepLabels expected = bruteForce(sweep, params, subject, labels, expected_removed);
     SCOPED_TRACE("round " + std::to_string(round) + ", r = " + std::to_string(params.outlier_radius) +
                  ", n = " + std::to_string(params.outlier_min_neighbors));
-    EXPECT_EQ(filter.apply(sweep, params, subject, labels), expected_removed);
+    EXPECT_EQ(filterFor(params).apply(sweep, subject, labels), expected_removed);
     expectSameLabels(labels, expected);
   }
 }
@@ -404,7 +408,6 @@ TEST(OutlierFilter, HandlesDegenerateParameters)
   std::mt19937 rng(99);
   core::SweepLabels before;
   const core::Sweep sweep = randomSweep(rng, 2000, before, Label::unchecked);
-  core::OutlierFilter filter;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   // r = 0 keeps only points repeated exactly in another beam; r = inf makes every point a
@@ -416,19 +419,19 @@ TEST(OutlierFilter, HandlesDegenerateParameters)
     std::size_t expected_removed = 0;
     const core::SweepLabels expected = bruteForce(sweep, params, Label::unchecked, labels, expected_removed);
     SCOPED_TRACE("r = " + std::to_string(params.outlier_radius) + ", n = " + std::to_string(params.outlier_min_neighbors));
-    EXPECT_EQ(filter.apply(sweep, params, Label::unchecked, labels), expected_removed);
+    EXPECT_EQ(filterFor(params).apply(sweep, Label::unchecked, labels), expected_removed);
     expectSameLabels(labels, expected);
   }
   {
     // A negative radius holds nothing: every subject point goes.
     core::SweepLabels labels = before;
     const std::size_t subjects = before.count(0, Label::unchecked) + before.count(1, Label::unchecked);
-    EXPECT_EQ(filter.apply(sweep, outlierParams(-0.1, 1), Label::unchecked, labels), subjects);
+    EXPECT_EQ(filterFor(outlierParams(-0.1, 1)).apply(sweep, Label::unchecked, labels), subjects);
   }
   {
     // n_inlier <= 0 is met by every point.
     core::SweepLabels labels = before;
-    EXPECT_EQ(filter.apply(sweep, outlierParams(0.1, 0), Label::unchecked, labels), 0u);
+    EXPECT_EQ(filterFor(outlierParams(0.1, 0)).apply(sweep, Label::unchecked, labels), 0u);
     expectSameLabels(labels, before);
   }
 }
@@ -437,14 +440,14 @@ TEST(OutlierFilter, GivesTheSameResultWhenReusedAcrossSweepsOfDifferentSizes)
 {
   std::mt19937 rng(7);
   const core::Params params = outlierParams(0.1, 8);
-  core::OutlierFilter reused;
+  core::OutlierFilter reused = filterFor(params);
   for (std::size_t beams : { 3000u, 200u, 5000u, 0u, 1u, 3000u })
   {
     core::SweepLabels labels;
     const core::Sweep sweep = randomSweep(rng, beams, labels, Label::unchecked);
     core::SweepLabels fresh_labels = labels;
-    const std::size_t reused_removed = reused.apply(sweep, params, Label::unchecked, labels);
-    const std::size_t fresh_removed = core::OutlierFilter().apply(sweep, params, Label::unchecked, fresh_labels);
+    const std::size_t reused_removed = reused.apply(sweep, Label::unchecked, labels);
+    const std::size_t fresh_removed = filterFor(params).apply(sweep, Label::unchecked, fresh_labels);
     EXPECT_EQ(reused_removed, fresh_removed) << beams << " beams";
     expectSameLabels(labels, fresh_labels);
   }

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "ohm_mirror_detector3d/core/range_gate.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "sweep_fixtures.h"
 
 namespace ohm_mirror_detector3d
@@ -18,7 +19,7 @@ core::SweepLabels gate(const core::Sweep& sweep, const core::Params& params = co
 {
   core::SweepLabels labels;
   labels.reset(sweep.beamCount());
-  core::applyRangeGate(sweep, params, labels);
+  core::RangeGate(core::stageConfigs(params).range_gate).apply(sweep, labels);
   return labels;
 }
 
@@ -74,11 +75,10 @@ TEST(RangeGate, UsesTheConfiguredLimits)
   EXPECT_EQ(labels.echoes[1][1], Label::unchecked);
 }
 
-TEST(RangeGate, MeasuresRangeFromTheSweepOrigin)
+TEST(RangeGate, MeasuresRangeFromTheSensorOrigin)
 {
   core::Sweep sweep = test::makeSweep({ { ahead(10.0f), ahead(10.0f) } });
-  sweep.origin = ahead(9.99f);
-  sweep.computeRanges();
+  sweep.computeRanges(ahead(9.99f));
   const core::SweepLabels labels = gate(sweep);
   EXPECT_EQ(labels.count(0, Label::nanPoint), 1u);
 }
@@ -88,7 +88,7 @@ TEST(RangeGate, ReturnsHowManyPointsItLabelled)
   const core::Sweep sweep = test::makeSweep({ { filled(kNaN), filled(kNaN) }, { ahead(1.0f), ahead(100.0f) } });
   core::SweepLabels labels;
   labels.reset(sweep.beamCount());
-  EXPECT_EQ(core::applyRangeGate(sweep, core::Params(), labels), 3u);
+  EXPECT_EQ(core::RangeGate(core::stageConfigs(core::Params()).range_gate).apply(sweep, labels), 3u);
 }
 
 }  // namespace

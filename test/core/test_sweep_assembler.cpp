@@ -166,19 +166,19 @@ TEST(SweepAssembler, EmitsASweepWhenTheNextHalfRotationBegins)
   const std::size_t beams = 3;
   SweepAssembler assembler;
   core::Sweep sweep;
-  std::uint64_t stamp = 0;
+  core::SweepContext context;
   for (int k = 0; k < scans; ++k)
   {
     EXPECT_EQ(assembler.add(makeScan(k, beams, wrappedAngle(1.0, k, scans), 1000 + k)), SweepAssembler::AddResult::added);
     EXPECT_FALSE(assembler.hasCompleteSweep());
-    EXPECT_EQ(assembler.takeSweep(sweep, stamp), 0u);
+    EXPECT_EQ(assembler.takeSweep(sweep, context), 0u);
   }
   // Scan 4 is half a turn after scan 0: it completes scans 0..3 and starts the next sweep.
   EXPECT_EQ(assembler.add(makeScan(scans, beams, wrappedAngle(1.0, scans, scans), 1000 + scans)),
             SweepAssembler::AddResult::sweep_complete);
   ASSERT_TRUE(assembler.hasCompleteSweep());
-  ASSERT_EQ(assembler.takeSweep(sweep, stamp), static_cast<std::size_t>(scans));
-  EXPECT_EQ(stamp, 1003u);  // the stamp of its last scan
+  ASSERT_EQ(assembler.takeSweep(sweep, context), static_cast<std::size_t>(scans));
+  EXPECT_EQ(context.stamp_ns, 1003u);  // the stamp of its last scan
   EXPECT_EQ(sweep.rows, static_cast<std::size_t>(scans));
   EXPECT_EQ(sweep.cols, beams);
   EXPECT_TRUE(sweep.has_intensity);
@@ -198,16 +198,16 @@ TEST(SweepAssembler, EmitsASweepWhenTheNextHalfRotationBegins)
     }
   }
   // The origin is the mean scanner position, and ranges are measured from it.
-  EXPECT_TRUE(sweep.origin.isApprox(Eigen::Vector3f(0.0f, 0.0f, 1.5f)));
-  EXPECT_NEAR(sweep.echoes[1].ranges[5], (Eigen::Vector3f(1.0f, 2.0f, 2.0f) - sweep.origin).norm(), 1e-6);
+  EXPECT_TRUE(context.sensorOrigin().isApprox(Eigen::Vector3f(0.0f, 0.0f, 1.5f)));
+  EXPECT_NEAR(sweep.echoes[1].ranges[5], (Eigen::Vector3f(1.0f, 2.0f, 2.0f) - context.sensorOrigin()).norm(), 1e-6);
 
   // The next sweep: scans 4..7, completed by scan 8.
   for (int k = scans + 1; k < 2 * scans; ++k)
     EXPECT_EQ(assembler.add(makeScan(k, beams, wrappedAngle(1.0, k, scans), 1000 + k)), SweepAssembler::AddResult::added);
   EXPECT_EQ(assembler.add(makeScan(2 * scans, beams, wrappedAngle(1.0, 2 * scans, scans), 2000)),
             SweepAssembler::AddResult::sweep_complete);
-  ASSERT_EQ(assembler.takeSweep(sweep, stamp), static_cast<std::size_t>(scans));
-  EXPECT_EQ(stamp, 1007u);
+  ASSERT_EQ(assembler.takeSweep(sweep, context), static_cast<std::size_t>(scans));
+  EXPECT_EQ(context.stamp_ns, 1007u);
   EXPECT_EQ(sweep.echoes[0].points[0], Eigen::Vector3f(4.0f, 0.0f, 1.0f));
 }
 
@@ -222,8 +222,8 @@ TEST(SweepAssembler, KeepsBeamsWithoutReturnAndRepeatedSingleEchoes)
   assembler.add(makeScan(1, 3, 0.05, 2));
   EXPECT_EQ(assembler.add(makeScan(2, 3, 0.1, 3)), SweepAssembler::AddResult::sweep_complete);
   core::Sweep sweep;
-  std::uint64_t stamp = 0;
-  ASSERT_EQ(assembler.takeSweep(sweep, stamp), 2u);
+  core::SweepContext context;
+  ASSERT_EQ(assembler.takeSweep(sweep, context), 2u);
   EXPECT_FALSE(sweep.has_intensity);  // one scan without intensities: none for the sweep
   EXPECT_FALSE(sweep.echoes[0].points[1].allFinite());
   EXPECT_TRUE(std::isnan(sweep.echoes[0].ranges[1]));
@@ -267,8 +267,8 @@ TEST(SweepAssembler, ResetForgetsThePartialSweepAndTheAnchor)
   EXPECT_EQ(assembler.add(makeScan(4, 2, core::unwrapAngle(2.0 + kPi, 0.0), 5)),
             SweepAssembler::AddResult::sweep_complete);
   core::Sweep sweep;
-  std::uint64_t stamp = 0;
-  EXPECT_EQ(assembler.takeSweep(sweep, stamp), 2u);
+  core::SweepContext context;
+  EXPECT_EQ(assembler.takeSweep(sweep, context), 2u);
 }
 
 }  // namespace

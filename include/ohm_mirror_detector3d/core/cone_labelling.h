@@ -1,11 +1,11 @@
 // Stage cleanScanTuple of the paper: label every point by the objects' vision cones.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <vector>
 
-#include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
@@ -23,15 +23,31 @@ struct ObjectAssignment
   void reset(std::size_t beam_count);
 };
 
-// Labels every point that is not nanPoint: on the surface of an object (within
-// plane_threshold, inside its vision cone grown by vision_cone_margin) or behind it gets the
-// object's surface or behind label (errorSurface/behindErrorS, reflectiveSurface/
-// behindReflective, transparentSurface/behindTransparent by type). Where cones overlap the
-// surface nearest to the sensor wins. Points outside every cone (or in front of the
-// surface) become valid, except `error` points, which stay error. Fills each object's
-// surface_points, behind_points and mean_surface_intensity.
-void labelByVisionCones(const Sweep& sweep, const Params& params, std::vector<ReflectiveObject>& objects,
-                        SweepLabels& labels, ObjectAssignment& assignment);
+struct ConeLabellingConfig
+{
+  double plane_threshold;  // d_thres_plane [m]: half thickness of a surface
+  double cone_margin;      // d_thres_visionCone [m]: growth of the vision cone on every side
+};
+
+class ConeLabelling
+{
+public:
+  explicit ConeLabelling(const ConeLabellingConfig& config);
+
+  // Labels every point that is not nanPoint: on the surface of an object (within
+  // plane_threshold, inside its vision cone from sensor_origin grown by cone_margin) or behind
+  // it gets the object's surface or behind label (errorSurface/behindErrorS,
+  // reflectiveSurface/behindReflective, transparentSurface/behindTransparent by type). Where
+  // cones overlap the surface nearest to the sensor wins. Points outside every cone (or in
+  // front of the surface) become valid, except `error` points, which stay error. Fills each
+  // object's surface_points, behind_points and mean_surface_intensity.
+  void apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, std::vector<ReflectiveObject>& objects,
+             SweepLabels& labels, ObjectAssignment& assignment) const;
+
+private:
+  float plane_threshold_;
+  float cone_margin_;
+};
 
 }  // namespace core
 }  // namespace ohm_mirror_detector3d

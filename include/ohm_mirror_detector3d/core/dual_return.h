@@ -73,7 +73,7 @@ struct DualReturnStats
 // - points without a cell (no return, ring or return index out of range, the loser of a
 //   claim, a second return that found neither partner nor free bin) go to sweep.unbinned.
 // sweep.input_cells gets the cell (or unbinned index) of every input point, in input order.
-// The sweep's origin is zero and its ranges are computed.
+// Its ranges are computed from the sensor origin at zero (the points are in the sensor frame).
 DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_resolution_deg, Sweep& sweep);
 
 }  // namespace core

@@ -2,9 +2,9 @@
 // points behind the plane to the real scene in front of it.
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 
-#include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
@@ -12,16 +12,26 @@ namespace ohm_mirror_detector3d
 {
 namespace core
 {
+struct ObjectTypeConfig
+{
+  double plane_threshold;          // d_thres_plane [m]: half thickness of the surface
+  double cone_margin;              // d_thres_visionCone [m]: growth of the vision cone
+  double icp_max_distance;         // [m]
+  double icp_fitness_threshold;    // [m^2]
+  int icp_min_points;
+  double icp_min_inlier_fraction;
+};
+
 class ObjectTypeAnalyzer
 {
 public:
-  ObjectTypeAnalyzer();
+  explicit ObjectTypeAnalyzer(const ObjectTypeConfig& config);
   ~ObjectTypeAnalyzer();
   ObjectTypeAnalyzer(ObjectTypeAnalyzer&&) noexcept;
   ObjectTypeAnalyzer& operator=(ObjectTypeAnalyzer&&) noexcept;
 
-  // Reflects the points behind the object (inside its vision cone, both echoes, nanPoint
-  // excluded) across its plane and registers them by ICP (max correspondence distance
+  // Reflects the points behind the object (inside its vision cone from sensor_origin, both
+  // echoes, nanPoint excluded) across its plane and registers them by ICP (max correspondence distance
   // icp_max_distance) to the real points in front of the plane near where they land
   // (labels unchecked or valid; error and errorSurface points are echoes of this or
   // another surface, not real geometry). For speed (see object_type.cpp) the registered
@@ -42,7 +52,8 @@ public:
   //   sensor looked where the mirrored points land and saw something else there (free space
   //   or other geometry);
   // - unknown in between: ambiguous evidence is not turned into a confident call.
-  void analyze(const Sweep& sweep, const Params& params, const SweepLabels& labels, ReflectiveObject& object);
+  void analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
+               ReflectiveObject& object);
 
   // Optional, for speed: bounding boxes of blocks of 64 beams of this sweep, so that analyze()
   // skips blocks that cannot hold a point it looks for (same result). Valid for this sweep
@@ -50,6 +61,7 @@ public:
   void beginSweep(const Sweep& sweep);
 
 private:
+  ObjectTypeConfig config_;
   struct Buffers;
   std::unique_ptr<Buffers> buffers_;
 };

@@ -1,18 +1,30 @@
-// The pre-filter of one sweep (Algorithm 1 of the paper): composes the stages and owns
-// their buffers, which it reuses from sweep to sweep.
+// The pre-filter of one sweep (Algorithm 1 of the paper) in three phases:
+//   detect: range gate, outlier filter, echo comparison, object extraction, type decision
+//     (the objects and the per-point evidence behind them);
+//   object stages: an ordered list of optional stages on whole objects (object_stage.h;
+//     none by default);
+//   label: cone labelling, cleaned output with back-projection.
+// The stages are built from Params (stage_configs.h), each with only its own values; the
+// pipeline owns their buffers and reuses them from sweep to sweep.
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/echo_comparison.h"
 #include "ohm_mirror_detector3d/core/object_extraction.h"
+#include "ohm_mirror_detector3d/core/object_stage.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
 #include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/range_gate.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -27,14 +39,15 @@ struct StageTimes
   double echo_comparison = 0.0;
   double object_extraction = 0.0;
   double type_analysis = 0.0;
+  double object_stages = 0.0;       // all of them
   double cone_labelling = 0.0;
   double cleaned_output = 0.0;
   double total = 0.0;               // the whole process call
 
   double sumOfStages() const
   {
-    return range_gate + outlier_filter + echo_comparison + object_extraction + type_analysis + cone_labelling +
-           cleaned_output;
+    return range_gate + outlier_filter + echo_comparison + object_extraction + type_analysis + object_stages +
+           cone_labelling + cleaned_output;
   }
 };
 
@@ -56,18 +69,41 @@ public:
   // Throws std::invalid_argument naming every bad value when params.validate() fails.
   explicit Pipeline(const Params& params = Params());
 
-  // Same check as the constructor; on failure the previous parameters stay in force.
+  // Same check as the constructor; on success the stages are rebuilt from the new values, on
+  // failure the previous parameters and stages stay in force. Object stages are kept.
   void setParams(const Params& params);
   const Params& params() const { return params_; }
 
-  // Runs every stage on the sweep. The result is valid until the next call.
-  const PipelineResult& process(const Sweep& sweep);
+  // Appends a stage to the object stages; they run in the order added.
+  void addObjectStage(std::unique_ptr<ObjectStage> stage);
+
+  // Runs the three phases on the sweep; the sensor origin (the apex of the vision cones)
+  // is context.sensorOrigin(), the origin the sweep's ranges were computed from
+  // (Sweep::computeRanges). The result is valid until the next call.
+  const PipelineResult& process(const Sweep& sweep, const SweepContext& context);
 
 private:
+  struct Stages
+  {
+    explicit Stages(const StageConfigs& configs);
+
+    RangeGate range_gate;
+    OutlierFilter outlier_filter;
+    EchoComparison echo_comparison;
+    ObjectExtractor object_extractor;
+    ObjectTypeAnalyzer type_analyzer;
+    ConeLabelling cone_labelling;
+  };
+
+  // Times consecutive stages (pipeline.cpp).
+  class StageClock;
+  void detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, StageClock& clock);
+  void runObjectStages(const Sweep& sweep, const SweepContext& context, StageClock& clock);
+  void label(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, StageClock& clock);
+
   Params params_;
-  OutlierFilter outlier_filter_;
-  ObjectExtractor object_extractor_;
-  ObjectTypeAnalyzer type_analyzer_;
+  Stages stages_;
+  std::vector<std::unique_ptr<ObjectStage>> object_stages_;
   PipelineResult result_;
 };
 

@@ -18,7 +18,7 @@ namespace core
 struct EchoCloud
 {
   std::vector<Eigen::Vector3f> points;  // in the sweep frame; non-finite when there is no return
-  std::vector<float> ranges;            // distance to the sweep's origin, NaN when no return
+  std::vector<float> ranges;            // distance from the sensor origin, NaN when no return
   std::vector<float> intensities;       // NaN when the input had none
 
   std::size_t size() const { return points.size(); }
@@ -42,7 +42,6 @@ struct Sweep
 {
   std::size_t rows = 0;
   std::size_t cols = 0;
-  Eigen::Vector3f origin = Eigen::Vector3f::Zero();  // scanner optical centre in the sweep frame
   bool has_intensity = false;
   std::array<EchoCloud, 2> echoes;
 
@@ -62,8 +61,11 @@ struct Sweep
   // Sizes every array for rows x cols beams; keeps capacity, so a reused sweep does not allocate.
   void resize(std::size_t new_rows, std::size_t new_cols);
 
-  // Fills ranges from points and origin (NaN for non-finite points).
-  void computeRanges();
+  // Fills ranges: the distance of every point from `sensor_origin` (NaN for non-finite
+  // points). The origin is the translation of the sweep's SweepContext::sensor_pose, which the
+  // pipeline takes the vision cones' apex from: whoever sets that pose computes the ranges
+  // from it.
+  void computeRanges(const Eigen::Vector3f& sensor_origin);
 };
 
 // Labels of both echoes, index-aligned with the sweep.

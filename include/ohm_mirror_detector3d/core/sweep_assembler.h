@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -127,10 +128,12 @@ public:
   // True from an add() that returned sweep_complete until takeSweep() (a later completion
   // replaces a sweep that was not taken).
   bool hasCompleteSweep() const { return complete_.rows > 0; }
-  // Moves the completed sweep into `sweep` (rows = scans, cols = beams, origin = mean scanner
-  // position over its scans, ranges from that origin, input_cells empty). Returns its number
-  // of rows, 0 when none was complete. `last_stamp_ns` is the stamp of its last scan.
-  std::size_t takeSweep(Sweep& sweep, std::uint64_t& last_stamp_ns);
+  // Moves the completed sweep into `sweep` (rows = scans, cols = beams, ranges from the mean
+  // scanner position over its scans, input_cells empty) and sets context.stamp_ns (the stamp
+  // of its last scan) and context.sensor_pose (translation: that mean position; rotation:
+  // identity, since the scanner turns during the sweep); the frame is the caller's. Returns its
+  // number of rows, 0 when none was complete (sweep and context then stay as they are).
+  std::size_t takeSweep(Sweep& sweep, SweepContext& context);
 
   std::size_t rows() const { return building_.rows; }
   std::size_t cols() const { return building_.cols; }

@@ -16,6 +16,7 @@
 
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
 #include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 
 namespace ohm_mirror_detector3d
@@ -50,9 +51,10 @@ class SweepSink
 {
 public:
   virtual ~SweepSink() = default;
-  // The sweep passed to BagInput::add holds a complete sweep: process it, stamp and frame
-  // the outputs with `header` and record them at `bag_time`.
-  virtual void sweepReady(const std_msgs::Header& header, const ros::Time& bag_time) = 0;
+  // The sweep passed to BagInput::add holds a complete sweep: process it with `context`, stamp
+  // and frame the outputs with `header` and record them at `bag_time`.
+  virtual void sweepReady(const std_msgs::Header& header, const core::SweepContext& context,
+                          const ros::Time& bag_time) = 0;
   // An input message (or pair of them) that makes no sweep, and why.
   virtual void sweepDropped(const std::string& reason, const ros::Time& bag_time) = 0;
 };

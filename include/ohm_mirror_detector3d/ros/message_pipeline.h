@@ -9,6 +9,7 @@
 
 #include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
 #include "ohm_mirror_detector3d/core/pipeline.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -32,6 +33,10 @@ struct OutputMessages
   visualization_msgs::MarkerArrayPtr markers;
 };
 
+// The context of a sweep whose points are in the scanner's frame: the header's stamp and
+// frame, the sensor at the frame's origin.
+core::SweepContext sensorFrameContext(const std_msgs::Header& header);
+
 class MessagePipeline
 {
 public:
@@ -44,10 +49,10 @@ public:
   // The sweep the input adapters fill; reused from message to message.
   core::Sweep& sweep() { return sweep_; }
 
-  // Runs the pipeline on sweep() and builds the requested outputs, stamped and framed with
-  // `header`. The result is valid until the next call.
-  const core::PipelineResult& process(const std_msgs::Header& header, const OutputRequest& request,
-                                      OutputMessages& outputs);
+  // Runs the pipeline on sweep() with its context (core::Pipeline::process) and builds the
+  // requested outputs, stamped and framed with `header`. The result is valid until the next call.
+  const core::PipelineResult& process(const std_msgs::Header& header, const core::SweepContext& context,
+                                      const OutputRequest& request, OutputMessages& outputs);
 
 private:
   core::Pipeline pipeline_;

@@ -54,7 +54,8 @@ class MultiEchoScanInput
 public:
   // Receives each completed sweep, framed sweep_frame and stamped with its last scan's stamp;
   // the sink may swap the sweep's buffers with its own (std::swap), which saves a copy.
-  using SweepSink = std::function<void(core::Sweep& sweep, const std_msgs::Header& header)>;
+  using SweepSink =
+      std::function<void(core::Sweep& sweep, const std_msgs::Header& header, const core::SweepContext& context)>;
 
   // Listens to tf (/tf, /tf_static) on `nh` in a thread of its own, so transforms keep
   // arriving while the pipeline runs (the nodelet). `name` prefixes the log messages.

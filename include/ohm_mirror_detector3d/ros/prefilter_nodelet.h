@@ -52,10 +52,14 @@ private:
   void onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud);
   void onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr& message);
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
+  // Runs the pipeline on the sweep in pipeline_ with `context` (the sensor at the origin of the
+  // header's frame when none is given) and publishes what is subscribed.
   void processAndPublish(const std_msgs::Header& header);
-  // sensor_frame: puts the scanner's position in the cloud's frame into the sweep's origin
-  // (the vision cones start there). False, with a throttled error, when tf cannot say.
-  bool placeSensorOrigin(const std_msgs::Header& header);
+  void processAndPublish(const std_msgs::Header& header, core::SweepContext context);
+  // sensor_frame: puts the scanner's pose in the cloud's frame into the context (the vision
+  // cones start there) and measures the sweep's ranges from it. False, with a throttled error,
+  // when tf cannot say.
+  bool placeSensor(const std_msgs::Header& header, core::SweepContext& context);
   // Logs a problem with the input on `topic` ("dropping sweep on TOPIC: PROBLEM" as an error,
   // or "sweep on TOPIC: PROBLEM" as a warning), throttled per kind of problem.
   void reportInputProblem(bool dropped, const std::string& what, const std::string& topic,

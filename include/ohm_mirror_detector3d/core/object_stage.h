@@ -1,0 +1,37 @@
+// The seam of the pipeline: a stage between the type decision and the cone labelling that works
+// on whole objects (the detect phase's objects and the labels behind them) before they label
+// the sweep. What goes here: growing an object over the part of its plane through which
+// points behind it are seen, multiple reflections, fusing objects over sweeps in a fixed frame.
+#pragma once
+
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/reflective_object.h"
+#include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+class ObjectStage
+{
+public:
+  virtual ~ObjectStage() = default;
+
+  // A short name for timing and messages.
+  virtual const char* name() const = 0;
+
+  // Called once per sweep, after the detect phase and the object stages before it. `labels`
+  // hold the detect phase's evidence per point (nanPoint: gated or outlier; errorSurface / error:
+  // near and far echo of a discontinuous beam; unchecked: everything else); `objects` are the
+  // objects so far (plane, rectangle, type, evidence, surface_inliers). A stage may change,
+  // add or remove objects and change labels; the cone labelling then labels the sweep by the
+  // objects it leaves, from context.sensorOrigin(). Objects keep their index as id (the
+  // stage renumbers what it adds or removes).
+  virtual void process(const Sweep& sweep, const SweepContext& context, SweepLabels& labels,
+                       std::vector<ReflectiveObject>& objects) = 0;
+};
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

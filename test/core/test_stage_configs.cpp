@@ -1,0 +1,84 @@
+#include <gtest/gtest.h>
+
+#include "ohm_mirror_detector3d/core/param_table.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace
+{
+// Every pipeline parameter set to a value of its own (its position in the table), so that a
+// config field fed from the wrong parameter shows.
+core::Params distinctParams()
+{
+  core::Params params;
+  int k = 1;
+  for (const core::ParamInfo& param : core::parameterTable())
+  {
+    if (param.real_field != nullptr)
+      params.*param.real_field = 0.5 + k;
+    else if (param.integer_field != nullptr)
+      params.*param.integer_field = 1000 + k;
+    ++k;
+  }
+  return params;
+}
+
+TEST(StageConfigs, EachStageGetsItsOwnValuesFromTheParameters)
+{
+  const core::Params p = distinctParams();
+  const core::StageConfigs c = core::stageConfigs(p);
+  EXPECT_EQ(c.range_gate.min_range, p.min_range);
+  EXPECT_EQ(c.range_gate.max_range, p.max_range);
+  EXPECT_EQ(c.outlier_filter.radius, p.outlier_radius);
+  EXPECT_EQ(c.outlier_filter.min_neighbors, p.outlier_min_neighbors);
+  EXPECT_EQ(c.echo_comparison.threshold, p.echo_threshold);
+  EXPECT_EQ(c.object_extraction.plane_threshold, p.plane_threshold);
+  EXPECT_EQ(c.object_extraction.min_object_points, p.min_object_points);
+  EXPECT_EQ(c.object_extraction.connection_distance, p.outlier_radius);
+  EXPECT_EQ(c.object_type.plane_threshold, p.plane_threshold);
+  EXPECT_EQ(c.object_type.cone_margin, p.vision_cone_margin);
+  EXPECT_EQ(c.object_type.icp_max_distance, p.icp_max_distance);
+  EXPECT_EQ(c.object_type.icp_fitness_threshold, p.icp_fitness_threshold);
+  EXPECT_EQ(c.object_type.icp_min_points, p.icp_min_points);
+  EXPECT_EQ(c.object_type.icp_min_inlier_fraction, p.icp_min_inlier_fraction);
+  EXPECT_EQ(c.cone_labelling.plane_threshold, p.plane_threshold);
+  EXPECT_EQ(c.cone_labelling.cone_margin, p.vision_cone_margin);
+}
+
+TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
+{
+  // A parameter that no stage config changes with is a parameter nothing reads.
+  const core::Params base = distinctParams();
+  const core::StageConfigs before = core::stageConfigs(base);
+  for (const core::ParamInfo& param : core::parameterTable())
+  {
+    if (param.scope != core::ParamScope::pipeline)
+      continue;
+    core::Params changed = base;
+    if (param.real_field != nullptr)
+      changed.*param.real_field += 0.25;
+    else
+      changed.*param.integer_field += 1;
+    const core::StageConfigs after = core::stageConfigs(changed);
+    const bool differs =
+        after.range_gate.min_range != before.range_gate.min_range ||
+        after.range_gate.max_range != before.range_gate.max_range ||
+        after.outlier_filter.radius != before.outlier_filter.radius ||
+        after.outlier_filter.min_neighbors != before.outlier_filter.min_neighbors ||
+        after.echo_comparison.threshold != before.echo_comparison.threshold ||
+        after.object_extraction.plane_threshold != before.object_extraction.plane_threshold ||
+        after.object_extraction.min_object_points != before.object_extraction.min_object_points ||
+        after.object_extraction.connection_distance != before.object_extraction.connection_distance ||
+        after.object_type.icp_max_distance != before.object_type.icp_max_distance ||
+        after.object_type.icp_fitness_threshold != before.object_type.icp_fitness_threshold ||
+        after.object_type.icp_min_points != before.object_type.icp_min_points ||
+        after.object_type.icp_min_inlier_fraction != before.object_type.icp_min_inlier_fraction ||
+        after.cone_labelling.plane_threshold != before.cone_labelling.plane_threshold ||
+        after.cone_labelling.cone_margin != before.cone_labelling.cone_margin;
+    EXPECT_TRUE(differs) << param.name << " reaches no stage";
+  }
+}
+
+}  // namespace
+}  // namespace ohm_mirror_detector3d
