@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/min_area_rectangle.h"
+#include "ohm_mirror_detector3d/core/spatial_index.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -50,38 +51,17 @@ constexpr std::size_t kSpacingSamples = 2048;
 
 const double kHorizontalNormalZ = 0.98480775301220806;  // cos(10 deg)
 
-struct Cell
+// Key offsets of the 62 cells in [-2, 2]^3 that come after (0, 0, 0) in lexicographic order:
+// every pair of neighbouring cells is visited once.
+std::array<std::int64_t, 62> forwardCellOffsets()
 {
-  std::int32_t x, y, z;
-  std::uint32_t begin, end;  // range in Workspace::cell_points
-};
-
-struct CellPoint
-{
-  std::int32_t x, y, z;
-  std::uint32_t point;  // position in the plane's inlier list
-};
-
-bool cellLess(std::int32_t ax, std::int32_t ay, std::int32_t az, std::int32_t bx, std::int32_t by, std::int32_t bz)
-{
-  if (ax != bx)
-    return ax < bx;
-  if (ay != by)
-    return ay < by;
-  return az < bz;
-}
-
-// The 62 cell offsets in [-2, 2]^3 lexicographically after (0, 0, 0): every neighbouring
-// pair of cells is visited once.
-std::array<std::array<std::int32_t, 3>, 62> forwardOffsets()
-{
-  std::array<std::array<std::int32_t, 3>, 62> offsets{};
+  std::array<std::int64_t, 62> offsets{};
   std::size_t k = 0;
-  for (std::int32_t dx = -2; dx <= 2; ++dx)
-    for (std::int32_t dy = -2; dy <= 2; ++dy)
-      for (std::int32_t dz = -2; dz <= 2; ++dz)
-        if (cellLess(0, 0, 0, dx, dy, dz))
-          offsets[k++] = { dx, dy, dz };
+  for (std::int64_t dx = -2; dx <= 2; ++dx)
+    for (std::int64_t dy = -2; dy <= 2; ++dy)
+      for (std::int64_t dz = -2; dz <= 2; ++dz)
+        if (dx > 0 || (dx == 0 && (dy > 0 || (dy == 0 && dz > 0))))
+          offsets[k++] = dx * cell_key::kStepX + dy * cell_key::kStepY + dz * cell_key::kStepZ;
   return offsets;
 }
 
@@ -139,12 +119,6 @@ private:
   const std::vector<float>& zs_;
 };
 
-std::int32_t cellCoordinate(float value, double cell_size)
-{
-  // Clamped so that absurd inputs cannot overflow; real sweeps are far inside.
-  const double c = std::floor(static_cast<double>(value) / cell_size);
-  return static_cast<std::int32_t>(std::max(-1.0e9, std::min(1.0e9, c)));
-}
 }  // namespace
 
 struct ObjectExtractor::Workspace
@@ -160,13 +134,12 @@ struct ObjectExtractor::Workspace
   Eigen::VectorXf coefficients;
   Eigen::VectorXf refined_coefficients;
 
-  // Connected components of one plane's inliers on a grid of cells of half the connection
-  // distance (any two points of one cell are connected; a partner is at most two cells away).
+  // Connected components of one plane's inliers on the spatial index with cells of half the
+  // connection distance (any two points of one cell are connected; a partner is at most two
+  // cells away).
   std::vector<Eigen::Vector3f> inlier_points;  // positions of `inliers`, same order
-  std::vector<CellPoint> cell_points;
-  std::vector<Cell> cells;
-  std::vector<std::uint32_t> point_cell;  // cell of each inlier
-  std::vector<std::uint32_t> parent;      // union-find over cells
+  SpatialIndex index;                     // of inlier_points, ids their positions
+  std::vector<std::uint32_t> parent;      // union-find over the index's cells
   std::vector<std::int32_t> patch_of_root;
   std::vector<std::uint32_t> point_patch;
   std::vector<std::uint32_t> patch_start;  // patch_count + 1 entries
@@ -191,7 +164,7 @@ struct ObjectExtractor::Workspace
 
   void gather(const Sweep& sweep, const SweepLabels& labels);
   std::size_t splitPatches(double connection_distance);
-  bool anyPairCloser(const Cell& a, const Cell& b, float squared_distance) const;
+  bool anyPairCloser(std::uint32_t a, std::uint32_t b, float squared_distance) const;
   double typicalSpacing(const Eigen::Vector2d& sweep_direction);
   void buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin, std::uint32_t patch,
                    ReflectiveObject& object);
@@ -230,13 +203,16 @@ void ObjectExtractor::Workspace::gather(const Sweep& sweep, const SweepLabels& l
     remaining[i] = static_cast<int>(i);
 }
 
-bool ObjectExtractor::Workspace::anyPairCloser(const Cell& a, const Cell& b, float squared_distance) const
+bool ObjectExtractor::Workspace::anyPairCloser(std::uint32_t a, std::uint32_t b, float squared_distance) const
 {
-  for (std::uint32_t i = a.begin; i < a.end; ++i)
+  const std::uint32_t* ids = index.sortedId();
+  const std::uint32_t a_end = index.cellBegin(a) + index.cellSize(a);
+  const std::uint32_t b_end = index.cellBegin(b) + index.cellSize(b);
+  for (std::uint32_t i = index.cellBegin(a); i < a_end; ++i)
   {
-    const Eigen::Vector3f& p = inlier_points[cell_points[i].point];
-    for (std::uint32_t j = b.begin; j < b.end; ++j)
-      if ((inlier_points[cell_points[j].point] - p).squaredNorm() < squared_distance)
+    const Eigen::Vector3f& p = inlier_points[ids[i]];
+    for (std::uint32_t j = index.cellBegin(b); j < b_end; ++j)
+      if ((inlier_points[ids[j]] - p).squaredNorm() < squared_distance)
         return true;
   }
   return false;
@@ -247,57 +223,49 @@ bool ObjectExtractor::Workspace::anyPairCloser(const Cell& a, const Cell& b, flo
 // first point. Returns the number of patches.
 std::size_t ObjectExtractor::Workspace::splitPatches(double connection_distance)
 {
-  static const std::array<std::array<std::int32_t, 3>, 62> kOffsets = forwardOffsets();
+  static const std::array<std::int64_t, 62> kOffsets = forwardCellOffsets();
   const std::size_t n = inliers.size();
   // Cell diagonal 0.87 * distance; the floor only guards a zero radius from direct callers.
   const double cell_size = std::max(0.5 * connection_distance, 1e-6);
 
   inlier_points.resize(n);
-  cell_points.resize(n);
+  index.reservePoints(n);
   for (std::size_t k = 0; k < n; ++k)
   {
     const pcl::PointXYZ& q = cloud->points[static_cast<std::size_t>(inliers[k])];
     inlier_points[k] = Eigen::Vector3f(q.x, q.y, q.z);
-    cell_points[k] = CellPoint{ cellCoordinate(q.x, cell_size), cellCoordinate(q.y, cell_size),
-                                cellCoordinate(q.z, cell_size), static_cast<std::uint32_t>(k) };
+    index.pointX()[k] = q.x;
+    index.pointY()[k] = q.y;
+    index.pointZ()[k] = q.z;
+    index.pointId()[k] = static_cast<std::uint32_t>(k);
   }
-  std::sort(cell_points.begin(), cell_points.end(), [](const CellPoint& a, const CellPoint& b) {
-    return cellLess(a.x, a.y, a.z, b.x, b.y, b.z) || (a.x == b.x && a.y == b.y && a.z == b.z && a.point < b.point);
-  });
-
-  cells.clear();
-  point_cell.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i)
+  index.setPointCount(n);
+  if (n == 0)
   {
-    const CellPoint& cp = cell_points[i];
-    if (cells.empty() || cells.back().x != cp.x || cells.back().y != cp.y || cells.back().z != cp.z)
-      cells.push_back(Cell{ cp.x, cp.y, cp.z, i, i });
-    cells.back().end = i + 1;
-    point_cell[cp.point] = static_cast<std::uint32_t>(cells.size() - 1);
+    patch_start.assign(1, 0);
+    return 0;
   }
+  SpatialIndex::Options options;
+  options.lookup = true;
+  index.build(AnchoredGrid(inlier_points[0], cell_size, 2), options);
 
-  const std::size_t cell_count = cells.size();
+  const std::size_t cell_count = index.cellCount();
+  const std::uint64_t* keys = index.cellKeys();
   parent.resize(cell_count);
   for (std::uint32_t c = 0; c < cell_count; ++c)
     parent[c] = c;
   const float squared_distance = static_cast<float>(connection_distance * connection_distance);
   for (std::uint32_t a = 0; a < cell_count; ++a)
   {
-    for (const std::array<std::int32_t, 3>& offset : kOffsets)
+    for (const std::int64_t offset : kOffsets)
     {
-      const std::int32_t x = cells[a].x + offset[0];
-      const std::int32_t y = cells[a].y + offset[1];
-      const std::int32_t z = cells[a].z + offset[2];
-      const auto it = std::lower_bound(cells.begin(), cells.end(), 0, [x, y, z](const Cell& c, int) {
-        return cellLess(c.x, c.y, c.z, x, y, z);
-      });
-      if (it == cells.end() || it->x != x || it->y != y || it->z != z)
+      const std::uint32_t b = index.findCell(static_cast<std::uint64_t>(static_cast<std::int64_t>(keys[a]) + offset));
+      if (b == SpatialIndex::kNoCell)
         continue;
-      const std::uint32_t b = static_cast<std::uint32_t>(it - cells.begin());
       const std::uint32_t root_a = find(a);
       const std::uint32_t root_b = find(b);
       // All points of a cell are already connected, so one close pair joins two cells.
-      if (root_a == root_b || !anyPairCloser(cells[a], cells[b], squared_distance))
+      if (root_a == root_b || !anyPairCloser(a, b, squared_distance))
         continue;
       parent[std::max(root_a, root_b)] = std::min(root_a, root_b);
     }
@@ -309,7 +277,7 @@ std::size_t ObjectExtractor::Workspace::splitPatches(double connection_distance)
   patch_start.assign(1, 0);
   for (std::size_t k = 0; k < n; ++k)
   {
-    const std::uint32_t root = find(point_cell[k]);
+    const std::uint32_t root = find(index.cellOfPoint(k));
     if (patch_of_root[root] < 0)
     {
       patch_of_root[root] = static_cast<std::int32_t>(patch_start.size() - 1);

@@ -5,13 +5,12 @@
 #include <cmath>
 #include <limits>
 
-// Uniform grid with cells at least as large as the radius, so that every neighbour of a
-// point lies in its own cell or one of the 26 around it. Points are grouped by cell (a
-// hash of the packed cell coordinates, then the cells sorted by key), so that a cell's
-// points are contiguous, the distance loop streams through plain float arrays, and the
-// three cells of a column along z are one contiguous range: a point has at most 11
-// ranges to look at (own cell, the cells above and below, 8 columns), found by pointers
-// that only move forward as the cells are visited in key order, without a lookup.
+// The spatial index with cells at least as large as the radius, so that every neighbour of a
+// point lies in its own cell or one of the 26 around it. A cell's points are contiguous, the
+// distance loop streams through plain float arrays, and the three cells of a column along z
+// are one contiguous range: a point has at most 11 ranges to look at (own cell, the cells
+// above and below, 8 columns), found by pointers that only move forward as the cells are
+// visited in key order, without a lookup.
 //
 // Expected O(N) for bounded density. Per point, each larger range is first judged by the
 // bounding box of its points: wholly within r counts all its points at once, wholly beyond
@@ -25,19 +24,6 @@ namespace core
 {
 namespace
 {
-constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
-constexpr std::uint64_t kEmptyKey = std::numeric_limits<std::uint64_t>::max();
-
-// 21 bits per axis, biased so that the anchor point sits in the middle. Coordinates are
-// clamped to [1, 2^21 - 2] so that a neighbour offset of +-1 never carries into the next
-// field: the key of a neighbour cell is then the key plus a constant. Clamping maps far
-// points onto the border cells; since clamping never moves two coordinates further
-// apart, neighbours still land in adjacent cells and the result stays exact, only
-// slower for points more than ~2^20 cells (105 km at r = 0.1 m) from the first one.
-constexpr int kAxisBits = 21;
-constexpr double kBias = static_cast<double>(1 << (kAxisBits - 1));
-constexpr double kMaxCoord = static_cast<double>((1 << kAxisBits) - 2);
-
 // Cells slightly larger than r: the float distance test may accept pairs a few ulps
 // beyond r, and those must still be in adjacent cells.
 constexpr double kCellMargin = 1.0 + 1e-4;
@@ -50,25 +36,6 @@ constexpr float kBoxMargin = 1e-5f;
 // Points of a cell are stored padded to whole blocks so that the distance loop has no
 // scalar tail; padding points are NaN, which no comparison accepts.
 constexpr std::uint32_t kBlock = 8;
-
-inline std::uint64_t axisCell(float value, float anchor, double inv_cell)
-{
-  // Truncation is floor here because the value is clamped positive first; this keeps
-  // std::floor (a libm call without SSE4.1) out of the per-point loop.
-  double t = (static_cast<double>(value) - static_cast<double>(anchor)) * inv_cell + kBias;
-  t = std::min(std::max(t, 1.0), kMaxCoord);
-  return static_cast<std::uint64_t>(t);
-}
-
-inline std::uint64_t packCell(std::uint64_t cx, std::uint64_t cy, std::uint64_t cz)
-{
-  return (cx << (2 * kAxisBits)) | (cy << kAxisBits) | cz;
-}
-
-inline std::uint64_t hashKey(std::uint64_t key, int shift)
-{
-  return (key * 0x9E3779B97F4A7C15ULL) >> shift;
-}
 
 // Counts points of [begin, end) (whole blocks) within r of q on top of `count`, stopping
 // once `need` is reached; the exit is checked once per block so that the block itself
@@ -139,17 +106,24 @@ std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels&
   const float r2_inside = r2 >= 0.0f ? r2 * (1.0f - kBoxMargin) : -1.0f;
   const float r2_outside = r2 >= 0.0f ? r2 * (1.0f + kBoxMargin) : -1.0f;
 
-  std::size_t removed = gather(sweep, subject, cell_size, labels);
-  if (point_count_ == 0)
+  std::size_t removed = gather(sweep, subject, labels);
+  if (index_.pointCount() == 0)
     return removed;
-  buildGrid();
+  // Cell coordinates relative to the first point, so the 21-bit fields cover the cloud
+  // wherever it is.
+  const Eigen::Vector3f anchor(index_.pointX()[0], index_.pointY()[0], index_.pointZ()[0]);
+  SpatialIndex::Options options;
+  options.block = kBlock;
+  options.boxes = true;
+  index_.build(AnchoredGrid(anchor, cell_size, 1), options);
 
   // The point itself is always within r of itself, so it needs n_inlier + 1 including itself.
   const std::size_t need = static_cast<std::size_t>(config_.min_neighbors) + 1;
 
-  const float* xs = sorted_x_.data();
-  const float* ys = sorted_y_.data();
-  const float* zs = sorted_z_.data();
+  const float* xs = index_.sortedX();
+  const float* ys = index_.sortedY();
+  const float* zs = index_.sortedZ();
+  const std::uint32_t* owners = index_.sortedId();
   std::vector<Label>& labels1 = labels.echoes[0];
   std::vector<Label>& labels2 = labels.echoes[1];
   // Decisions depend only on the gathered coordinates, never on labels, so writing labels
@@ -168,18 +142,18 @@ std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels&
     }
   };
 
-  const std::size_t cell_count = cell_keys_.size();
-  const std::uint64_t* keys = cell_keys_.data();
+  const std::size_t cell_count = index_.cellCount();
+  const std::uint64_t* keys = index_.cellKeys();
   auto cellRange = [&](std::size_t first, std::size_t last, Range& range) {
     // [first, last) are consecutive cells, hence one contiguous span of the arrays.
-    range.begin = cell_start_[first];
-    range.end = cell_start_[last];
+    range.begin = index_.cellBegin(first);
+    range.end = index_.cellBegin(last);
     range.count = 0;
-    const float* box = &cell_boxes_[6 * first];
+    const float* box = index_.cellBox(first);
     std::copy(box, box + 6, range.box);
     for (std::size_t cell = first; cell < last; ++cell, box += 6)
     {
-      range.count += cell_counts_[cell];
+      range.count += index_.cellSize(cell);
       for (int a = 0; a < 3; ++a)
       {
         range.box[a] = std::min(range.box[a], box[a]);
@@ -191,8 +165,8 @@ std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels&
   // The 8 neighbouring columns, faces before diagonals (nearer first, earlier exit). As
   // cells are visited in increasing key, the key of each neighbouring column increases
   // too, so each column's search pointer only moves forward.
-  constexpr std::int64_t kY = std::int64_t(1) << kAxisBits;
-  constexpr std::int64_t kX = std::int64_t(1) << (2 * kAxisBits);
+  constexpr std::int64_t kY = cell_key::kStepY;
+  constexpr std::int64_t kX = cell_key::kStepX;
   constexpr std::array<std::int64_t, 8> column_offsets = { -kX, kX, -kY, kY, -kX - kY, -kX + kY, kX - kY, kX + kY };
   std::array<std::size_t, 8> column_cursor{};
 
@@ -224,12 +198,12 @@ std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels&
     std::size_t total = 0;
     for (std::size_t k = 0; k < range_count; ++k)
       total += ranges[k].count;
-    const std::uint32_t begin = cell_start_[c];
-    const std::uint32_t end = begin + cell_counts_[c];
+    const std::uint32_t begin = index_.cellBegin(c);
+    const std::uint32_t end = begin + index_.cellSize(c);
     if (total < need)
     {
       for (std::uint32_t i = begin; i < end; ++i)
-        remove(sorted_owners_[i]);
+        remove(owners[i]);
       continue;
     }
     for (std::uint32_t i = begin; i < end; ++i)
@@ -267,13 +241,13 @@ std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels&
           break;
       }
       if (count < need)
-        remove(sorted_owners_[i]);
+        remove(owners[i]);
     }
   }
   return removed;
 }
 
-std::size_t OutlierFilter::gather(const Sweep& sweep, Label subject, double cell_size, SweepLabels& labels)
+std::size_t OutlierFilter::gather(const Sweep& sweep, Label subject, SweepLabels& labels)
 {
   const std::vector<Eigen::Vector3f>& points1 = sweep.echoes[0].points;
   const std::vector<Eigen::Vector3f>& points2 = sweep.echoes[1].points;
@@ -282,20 +256,11 @@ std::size_t OutlierFilter::gather(const Sweep& sweep, Label subject, double cell
   // Guards against a caller whose arrays disagree in size rather than reading past one.
   const std::size_t beams = std::min({ points1.size(), points2.size(), labels1.size(), labels2.size() });
 
-  // Sized for the worst case and never shrunk, then written through pointers: push_back's
-  // capacity test per element would cost more than the rest of this loop.
-  if (xs_.size() < 2 * beams)
-  {
-    xs_.resize(2 * beams);
-    ys_.resize(2 * beams);
-    zs_.resize(2 * beams);
-    owners_.resize(2 * beams);
-    point_keys_.resize(2 * beams);
-  }
-  float* xs = xs_.data();
-  float* ys = ys_.data();
-  float* zs = zs_.data();
-  std::uint32_t* owners = owners_.data();
+  index_.reservePoints(2 * beams);
+  float* xs = index_.pointX();
+  float* ys = index_.pointY();
+  float* zs = index_.pointZ();
+  std::uint32_t* owners = index_.pointId();
   std::size_t n = 0;
   std::size_t removed = 0;
   auto add = [&](const Eigen::Vector3f& p, std::uint32_t owner) {
@@ -335,172 +300,8 @@ std::size_t OutlierFilter::gather(const Sweep& sweep, Label subject, double cell
     if (finite2)
       add(points2[i], beam_bits | 2u);
   }
-  point_count_ = n;
-
-  // Cell coordinates relative to the first point, so the 21-bit fields cover the cloud
-  // wherever it is.
-  const double inv_cell = std::isinf(cell_size) ? 0.0 : 1.0 / cell_size;
-  const float ax = n > 0 ? xs[0] : 0.0f;
-  const float ay = n > 0 ? ys[0] : 0.0f;
-  const float az = n > 0 ? zs[0] : 0.0f;
-  std::uint64_t* keys = point_keys_.data();
-  std::size_t runs = 0;
-  std::uint64_t last_key = kEmptyKey;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::uint64_t key =
-        packCell(axisCell(xs[i], ax, inv_cell), axisCell(ys[i], ay, inv_cell), axisCell(zs[i], az, inv_cell));
-    keys[i] = key;
-    runs += key != last_key ? 1 : 0;
-    last_key = key;
-  }
-  key_runs_ = runs;
+  index_.setPointCount(n);
   return removed;
-}
-
-void OutlierFilter::resetTable(std::size_t capacity)
-{
-  if (table_keys_.size() < capacity)
-  {
-    table_keys_.resize(capacity);
-    table_cells_.resize(capacity);
-  }
-  std::fill(table_keys_.begin(), table_keys_.begin() + static_cast<std::ptrdiff_t>(capacity), kEmptyKey);
-  table_mask_ = capacity - 1;
-  int bits = 0;
-  while ((std::size_t(1) << bits) < capacity)
-    ++bits;
-  table_shift_ = 64 - bits;
-}
-
-void OutlierFilter::buildGrid()
-{
-  const std::size_t point_count = point_count_;
-
-  // A table for about as many cells as the previous sweep had keeps it in cache (sweeps
-  // of one scanner look alike); it grows when needed. key_runs_ bounds the distinct cells
-  // from above, which caps it for small sweeps. Load factor stays <= 1/2.
-  const std::size_t expected_cells = std::min(key_runs_, std::max<std::size_t>(cell_keys_.size(), 8));
-  std::size_t capacity = 16;
-  while (capacity < 4 * expected_cells)
-    capacity <<= 1;
-  resetTable(capacity);
-
-  first_seen_keys_.clear();
-  first_seen_counts_.clear();
-  if (point_cells_.size() < point_count)
-    point_cells_.resize(point_count);
-  std::uint64_t last_key = kEmptyKey;
-  std::uint32_t last_cell = kNoCell;
-  for (std::size_t i = 0; i < point_count; ++i)
-  {
-    const std::uint64_t key = point_keys_[i];
-    if (key != last_key)
-    {
-      std::uint64_t slot = hashKey(key, table_shift_);
-      while (table_keys_[slot] != key && table_keys_[slot] != kEmptyKey)
-        slot = (slot + 1) & table_mask_;
-      if (table_keys_[slot] == kEmptyKey)
-      {
-        const std::uint32_t cell = static_cast<std::uint32_t>(first_seen_keys_.size());
-        first_seen_keys_.push_back(key);
-        first_seen_counts_.push_back(0);
-        if (2 * first_seen_keys_.size() > table_mask_ + 1)
-        {
-          // Rehash every cell so far, this one included, into a table twice the size.
-          resetTable(2 * (table_mask_ + 1));
-          for (std::uint32_t c = 0; c <= cell; ++c)
-          {
-            std::uint64_t s = hashKey(first_seen_keys_[c], table_shift_);
-            while (table_keys_[s] != kEmptyKey)
-              s = (s + 1) & table_mask_;
-            table_keys_[s] = first_seen_keys_[c];
-            table_cells_[s] = c;
-          }
-        }
-        else
-        {
-          table_keys_[slot] = key;
-          table_cells_[slot] = cell;
-        }
-        last_cell = cell;
-      }
-      else
-      {
-        last_cell = table_cells_[slot];
-      }
-      last_key = key;
-    }
-    point_cells_[i] = last_cell;
-    ++first_seen_counts_[last_cell];
-  }
-
-  // Key order makes a column of cells contiguous and lets the search pointers of apply()
-  // move forward only. Sorting cells, not points, keeps this at a fraction of the work.
-  const std::size_t cell_count = first_seen_keys_.size();
-  key_order_.resize(cell_count);
-  for (std::size_t c = 0; c < cell_count; ++c)
-    key_order_[c] = { first_seen_keys_[c], static_cast<std::uint32_t>(c) };
-  std::sort(key_order_.begin(), key_order_.end());
-  cell_rank_.resize(cell_count);
-  cell_keys_.resize(cell_count);
-  cell_counts_.resize(cell_count);
-  cell_start_.resize(cell_count + 1);
-  std::uint32_t padded_total = 0;
-  for (std::size_t c = 0; c < cell_count; ++c)
-  {
-    const std::uint32_t seen = key_order_[c].second;
-    cell_rank_[seen] = static_cast<std::uint32_t>(c);
-    cell_keys_[c] = key_order_[c].first;
-    cell_counts_[c] = first_seen_counts_[seen];
-    cell_start_[c] = padded_total;
-    padded_total += (cell_counts_[c] + kBlock - 1) / kBlock * kBlock;
-  }
-  cell_start_[cell_count] = padded_total;
-
-  // Counting sort into block-padded slots; first_seen_counts_ serves as the fill cursor.
-  // Never shrunk, so that a smaller sweep does not pay for re-initialising on the next.
-  if (sorted_x_.size() < padded_total)
-  {
-    sorted_x_.resize(padded_total);
-    sorted_y_.resize(padded_total);
-    sorted_z_.resize(padded_total);
-    sorted_owners_.resize(padded_total);
-  }
-  std::vector<std::uint32_t>& cursor = first_seen_counts_;
-  for (std::size_t c = 0; c < cell_count; ++c)
-    cursor[c] = cell_start_[cell_rank_[c]];
-  for (std::size_t i = 0; i < point_count; ++i)
-  {
-    const std::uint32_t to = cursor[point_cells_[i]]++;
-    sorted_x_[to] = xs_[i];
-    sorted_y_[to] = ys_[i];
-    sorted_z_[to] = zs_[i];
-    sorted_owners_[to] = owners_[i];
-  }
-
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  cell_boxes_.resize(6 * cell_count);
-  for (std::size_t c = 0; c < cell_count; ++c)
-  {
-    const std::uint32_t begin = cell_start_[c];
-    const std::uint32_t end = begin + cell_counts_[c];
-    std::fill(sorted_x_.data() + end, sorted_x_.data() + cell_start_[c + 1], nan);
-    std::fill(sorted_y_.data() + end, sorted_y_.data() + cell_start_[c + 1], nan);
-    std::fill(sorted_z_.data() + end, sorted_z_.data() + cell_start_[c + 1], nan);
-    float box[6] = { sorted_x_[begin], sorted_y_[begin], sorted_z_[begin],
-                     sorted_x_[begin], sorted_y_[begin], sorted_z_[begin] };
-    for (std::uint32_t i = begin + 1; i < end; ++i)
-    {
-      box[0] = std::min(box[0], sorted_x_[i]);
-      box[1] = std::min(box[1], sorted_y_[i]);
-      box[2] = std::min(box[2], sorted_z_[i]);
-      box[3] = std::max(box[3], sorted_x_[i]);
-      box[4] = std::max(box[4], sorted_y_[i]);
-      box[5] = std::max(box[5], sorted_z_[i]);
-    }
-    std::copy(box, box + 6, &cell_boxes_[6 * c]);
-  }
 }
 
 }  // namespace core
