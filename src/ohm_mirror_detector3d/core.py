@@ -36,10 +36,9 @@ import numpy as np
 from . import _core
 from .labels import Label
 
-# One point of `labelled` and `cleaned`, as the nodelet lays out its PointCloud2s.
-OUTPUT_DTYPE = np.dtype({'names': ['x', 'y', 'z', 'intensity', 'label', 'echo', 'beam'],
-                         'formats': ['<f4', '<f4', '<f4', '<f4', 'u1', 'u1', '<u4'],
-                         'offsets': [0, 4, 8, 12, 16, 17, 20], 'itemsize': 24})
+# One point of `labelled` and `cleaned`: the core's record (core/output_records.h), which the
+# nodelet's PointCloud2s carry too.
+OUTPUT_DTYPE = _core.OUTPUT_DTYPE
 
 OBJECT_TYPE_NAMES = {0: 'unknown', 1: 'mirror', 2: 'glass'}
 MODES = ('pair', 'dual_return')

@@ -4,7 +4,8 @@
 // dataclass, result object); this module does the work that must not cost Python time: checks
 // the arrays, fills the pipeline's Sweep straight from the numpy buffers (the only copy the
 // core needs, since it owns its Sweep), runs the pipeline with the GIL released and writes the
-// outputs in the byte layout of the nodelet's `labelled` and `cleaned` PointCloud2s.
+// outputs with the core's record writer (core/output_records.h), which writes the nodelet's
+// `labelled` and `cleaned` PointCloud2s too.
 //
 // Only pybind11 2.4 API (Ubuntu 20.04 / ROS Noetic).
 #include <pybind11/numpy.h>
@@ -24,6 +25,7 @@
 
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/labels.h"
+#include "ohm_mirror_detector3d/core/output_records.h"
 #include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/pipeline.h"
 
@@ -32,43 +34,12 @@ using namespace ohm_mirror_detector3d;
 
 namespace
 {
-// One point of `labelled` / `cleaned`, laid out as the nodelet's PointCloud2 (conversions.cpp:
-// x y z intensity at 0..15, label 16, echo 17, two padding bytes, beam 20; 24 bytes), so that
-// an array's bytes equal the message's data.
-struct OutputPointRecord
-{
-  float x;
-  float y;
-  float z;
-  float intensity;
-  std::uint8_t label;
-  std::uint8_t echo;
-  std::uint32_t beam;
-};
-static_assert(sizeof(OutputPointRecord) == 24, "the nodelet's point_step");
-static_assert(offsetof(OutputPointRecord, beam) == 20, "the nodelet's beam offset");
+using Records = py::array_t<core::OutputRecord>;
 
-constexpr std::uint32_t kNoBeam = 0xFFFFFFFFu;  // `beam` of a dual-return point in no grid cell
-
-py::array_t<OutputPointRecord> newOutputArray(std::size_t count)
+// The array's bytes, for the record writer (which sets every byte, padding included).
+std::uint8_t* recordBytes(Records& records)
 {
-  py::array_t<OutputPointRecord> array(static_cast<py::ssize_t>(count));
-  // Padding bytes too: the bytes must be reproducible (the nodelet zeroes them).
-  if (count > 0)
-    std::memset(array.mutable_data(), 0, count * sizeof(OutputPointRecord));
-  return array;
-}
-
-void writeRecord(OutputPointRecord& out, const Eigen::Vector3f& p, float intensity, core::Label label,
-                 std::uint8_t echo, std::uint32_t beam)
-{
-  out.x = p.x();
-  out.y = p.y();
-  out.z = p.z();
-  out.intensity = intensity;
-  out.label = static_cast<std::uint8_t>(label);
-  out.echo = echo;
-  out.beam = beam;
+  return reinterpret_cast<std::uint8_t*>(records.mutable_data());
 }
 
 std::string describeShape(const py::array& a)
@@ -243,15 +214,10 @@ py::dict statsOf(const core::PipelineResult& r)
   return stats;
 }
 
-py::array_t<OutputPointRecord> cleanedArray(const std::vector<core::OutputPoint>& cleaned)
+Records cleanedArray(const std::vector<core::OutputPoint>& cleaned)
 {
-  py::array_t<OutputPointRecord> out = newOutputArray(cleaned.size());
-  OutputPointRecord* records = out.mutable_data();
-  for (std::size_t i = 0; i < cleaned.size(); ++i)
-  {
-    const core::OutputPoint& p = cleaned[i];
-    writeRecord(records[i], p.position, p.intensity, p.label, p.echo, p.beam);
-  }
+  Records out(static_cast<py::ssize_t>(cleaned.size()));
+  core::writeCleanedRecords(cleaned, recordBytes(out));
   return out;
 }
 
@@ -301,9 +267,9 @@ public:
     const float* i1_data = intensityData(i1);
     const float* i2_data = intensityData(i2);
 
-    py::array_t<OutputPointRecord> labelled = newOutputArray(2 * n);
-    OutputPointRecord* records = labelled.mutable_data();
-    py::array_t<OutputPointRecord> cleaned;
+    Records labelled(static_cast<py::ssize_t>(2 * n));
+    std::uint8_t* records = recordBytes(labelled);
+    Records cleaned;
     py::list objects;
     py::dict stats;
     {
@@ -327,11 +293,7 @@ public:
           throwPartlyFinite(k == 0 ? "echo1" : "echo2", bad[k], sweep_.echoes[k].points[static_cast<std::size_t>(bad[k])]);
         }
       const core::PipelineResult& r = pipeline_.process(sweep_, context_);
-      // Every point of both echoes, echo 1 then echo 2, in beam order (as toLabelledCloud).
-      for (std::size_t k = 0; k < 2; ++k)
-        for (std::size_t i = 0; i < n; ++i)
-          writeRecord(records[k * n + i], sweep_.echoes[k].points[i], sweep_.echoes[k].intensities[i],
-                      r.labels.echoes[k][i], static_cast<std::uint8_t>(k + 1), static_cast<std::uint32_t>(i));
+      core::writeLabelledRecords(sweep_, r.labels, records);
       py::gil_scoped_acquire acquire;
       cleaned = cleanedArray(r.cleaned);
       objects = objectList(r.objects);
@@ -357,9 +319,9 @@ public:
     const std::int64_t* returns_data = returns.data();
     const std::int64_t* rings_data = rings.data();
 
-    py::array_t<OutputPointRecord> labelled = newOutputArray(n);
-    OutputPointRecord* records = labelled.mutable_data();
-    py::array_t<OutputPointRecord> cleaned;
+    Records labelled(static_cast<py::ssize_t>(n));
+    std::uint8_t* records = recordBytes(labelled);
+    Records cleaned;
     py::list objects;
     py::dict stats;
     {
@@ -379,18 +341,8 @@ public:
       input_.rings.assign(rings_data, rings_data + n);
       const core::DualReturnStats binning = core::binDualReturns(input_, azimuth_resolution_deg, sweep_);
       const core::PipelineResult& r = pipeline_.process(sweep_, context_);
-      // The input's order and count; points in no grid cell are nanPoint, echo 0 (toLabelledCloud).
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        const core::PointRef& cell = sweep_.input_cells[i];
-        if (cell.echo == core::PointRef::kNoCell)
-          writeRecord(records[i], sweep_.unbinned.points[cell.beam], sweep_.unbinned.intensities[cell.beam],
-                      core::Label::nanPoint, 0, kNoBeam);
-        else
-          writeRecord(records[i], sweep_.echoes[cell.echo].points[cell.beam],
-                      sweep_.echoes[cell.echo].intensities[cell.beam], r.labels.echoes[cell.echo][cell.beam],
-                      static_cast<std::uint8_t>(cell.echo + 1), cell.beam);
-      }
+      // The input's order and count; points in no grid cell are nanPoint, echo 0.
+      core::writeLabelledRecords(sweep_, r.labels, records);
       py::gil_scoped_acquire acquire;
       cleaned = cleanedArray(r.cleaned);
       objects = objectList(r.objects);
@@ -420,7 +372,8 @@ PYBIND11_MODULE(_core, m)
 {
   m.doc() = "The ROS-free pre-filter core on numpy arrays; use ohm_mirror_detector3d.core instead.";
 
-  PYBIND11_NUMPY_DTYPE(OutputPointRecord, x, y, z, intensity, label, echo, beam);
+  PYBIND11_NUMPY_DTYPE(core::OutputRecord, x, y, z, intensity, label, echo, beam);
+  m.attr("OUTPUT_DTYPE") = py::dtype::of<core::OutputRecord>();
 
   py::class_<core::Params>(m, "Params", "The core's parameters under their C++ names (core/params.h).")
       .def(py::init<>())

@@ -1,5 +1,6 @@
 #include "ohm_mirror_detector3d/ros/conversions.h"
 
+#include "ohm_mirror_detector3d/core/output_records.h"
 #include "ohm_mirror_detector3d/ros/point_fields.h"
 
 #include <sensor_msgs/PointField.h>
@@ -27,15 +28,18 @@ void appendField(sensor_msgs::PointCloud2& cloud, const std::string& name, std::
   cloud.fields.push_back(field);
 }
 
-// Layout shared by the labelled and the cleaned cloud.
-constexpr std::uint32_t kOffsetIntensity = 12;
-constexpr std::uint32_t kOffsetLabel = 16;
-constexpr std::uint32_t kOffsetEcho = 17;
-constexpr std::uint32_t kOffsetBeam = 20;
-constexpr std::uint32_t kOutputPointStep = 24;
-// `beam` of a labelled point that is in no grid cell.
-constexpr std::uint32_t kNoBeam = 0xFFFFFFFFu;
+std::uint8_t datatypeOf(core::OutputFieldType type)
+{
+  switch (type)
+  {
+    case core::OutputFieldType::float32: return PointField::FLOAT32;
+    case core::OutputFieldType::uint8: return PointField::UINT8;
+    case core::OutputFieldType::uint32: return PointField::UINT32;
+  }
+  return 0;
+}
 
+// A cloud of `points` core::OutputRecords (fields, sizes; data sized, to be written).
 void prepareOutputCloud(const std_msgs::Header& header, std::size_t points, sensor_msgs::PointCloud2& cloud)
 {
   cloud.header = header;
@@ -43,27 +47,12 @@ void prepareOutputCloud(const std_msgs::Header& header, std::size_t points, sens
   cloud.width = static_cast<std::uint32_t>(points);
   cloud.is_bigendian = false;
   cloud.is_dense = false;
-  cloud.point_step = kOutputPointStep;
-  cloud.row_step = kOutputPointStep * cloud.width;
+  cloud.point_step = sizeof(core::OutputRecord);
+  cloud.row_step = cloud.point_step * cloud.width;
   cloud.fields.clear();
-  appendField(cloud, "x", 0, PointField::FLOAT32);
-  appendField(cloud, "y", 4, PointField::FLOAT32);
-  appendField(cloud, "z", 8, PointField::FLOAT32);
-  appendField(cloud, "intensity", kOffsetIntensity, PointField::FLOAT32);
-  appendField(cloud, "label", kOffsetLabel, PointField::UINT8);
-  appendField(cloud, "echo", kOffsetEcho, PointField::UINT8);
-  appendField(cloud, "beam", kOffsetBeam, PointField::UINT32);
-  cloud.data.assign(static_cast<std::size_t>(cloud.row_step), 0);
-}
-
-void writePoint(std::uint8_t* out, const Eigen::Vector3f& position, float intensity, core::Label label,
-                std::uint8_t echo, std::uint32_t beam)
-{
-  std::memcpy(out, position.data(), 3 * sizeof(float));
-  std::memcpy(out + kOffsetIntensity, &intensity, sizeof(float));
-  out[kOffsetLabel] = static_cast<std::uint8_t>(label);
-  out[kOffsetEcho] = echo;
-  std::memcpy(out + kOffsetBeam, &beam, sizeof(beam));
+  for (const core::OutputField& field : core::outputFields())
+    appendField(cloud, field.name, field.offset, datatypeOf(field.type));
+  cloud.data.resize(static_cast<std::size_t>(cloud.row_step));
 }
 }  // namespace
 
@@ -143,39 +132,8 @@ std::string echoPairToSweep(const EchoPair& pair, core::Sweep& sweep)
 void toLabelledCloud(const std_msgs::Header& header, const core::Sweep& sweep, const core::SweepLabels& labels,
                      sensor_msgs::PointCloud2& cloud)
 {
-  const std::size_t beams = sweep.beamCount();
-  if (!sweep.input_cells.empty())
-  {
-    // The input's own order and count (a dual-return cloud), so labels join back onto it.
-    prepareOutputCloud(header, sweep.input_cells.size(), cloud);
-    std::uint8_t* out = cloud.data.data();
-    for (const core::PointRef& cell : sweep.input_cells)
-    {
-      if (cell.echo == core::PointRef::kNoCell)
-      {
-        // A point in no grid cell (no return, out of range, lost its cell): nanPoint, echo 0.
-        writePoint(out, sweep.unbinned.points[cell.beam], sweep.unbinned.intensities[cell.beam],
-                   core::Label::nanPoint, 0, kNoBeam);
-      }
-      else
-      {
-        const core::EchoCloud& echo = sweep.echoes[cell.echo];
-        writePoint(out, echo.points[cell.beam], echo.intensities[cell.beam], labels.echoes[cell.echo][cell.beam],
-                   static_cast<std::uint8_t>(cell.echo + 1), cell.beam);
-      }
-      out += kOutputPointStep;
-    }
-    return;
-  }
-  prepareOutputCloud(header, 2 * beams, cloud);
-  std::uint8_t* out = cloud.data.data();
-  for (std::size_t k = 0; k < 2; ++k)
-  {
-    const core::EchoCloud& echo = sweep.echoes[k];
-    for (std::size_t i = 0; i < beams; ++i, out += kOutputPointStep)
-      writePoint(out, echo.points[i], echo.intensities[i], labels.echoes[k][i], static_cast<std::uint8_t>(k + 1),
-                 static_cast<std::uint32_t>(i));
-  }
+  prepareOutputCloud(header, core::labelledRecordCount(sweep), cloud);
+  core::writeLabelledRecords(sweep, labels, cloud.data.data());
 }
 
 void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::OutputPoint>& points,
@@ -183,12 +141,7 @@ void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::Outp
 {
   prepareOutputCloud(header, points.size(), cloud);
   cloud.is_dense = true;
-  std::uint8_t* out = cloud.data.data();
-  for (const core::OutputPoint& point : points)
-  {
-    writePoint(out, point.position, point.intensity, point.label, point.echo, point.beam);
-    out += kOutputPointStep;
-  }
+  core::writeCleanedRecords(points, cloud.data.data());
 }
 
 }  // namespace ros_io
