@@ -1,38 +1,18 @@
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
+#include <boost/any.hpp>
+
+#include <stdexcept>
+#include <type_traits>
+
+#include "ohm_mirror_detector3d/core/param_table.h"
+
 namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
 namespace
 {
-// One pipeline parameter: its name in the original launch file (also the name in
-// cfg/PreFilter.cfg), the paper's symbol (nullptr when it has none), and the field of
-// core::Params it sets.
-struct ParamName
-{
-  const char* ros_name;
-  const char* paper_name;
-  double core::Params::*real_field;
-  int core::Params::*integer_field;
-};
-
-const ParamName kParamNames[] = {
-  { "min_measure_distance", "d_min", &core::Params::min_range, nullptr },
-  { "max_measure_distance", "d_max", &core::Params::max_range, nullptr },
-  { "outlierFilter_searchRadius", "r", &core::Params::outlier_radius, nullptr },
-  { "outlierFilter_minNeighbors", "n_inlier", nullptr, &core::Params::outlier_min_neighbors },
-  { "substract_threshold_distance", "d_thres", &core::Params::echo_threshold, nullptr },
-  { "planeDetection_threshold_distance", "d_thres_plane", &core::Params::plane_threshold, nullptr },
-  { "planeDetection_minAmountPoints", "n_object", nullptr, &core::Params::min_object_points },
-  { "visionCone_threshold", "d_thres_visionCone", &core::Params::vision_cone_margin, nullptr },
-  { "max_Dist_ICP", "icp_max_distance", &core::Params::icp_max_distance, nullptr },
-  { "fitness_Fct_ICP", "icp_fitness_threshold", &core::Params::icp_fitness_threshold, nullptr },
-  // Ours, not the paper's or the original launch file's: one name only.
-  { "icp_min_points", nullptr, nullptr, &core::Params::icp_min_points },
-  { "icp_min_inlier_fraction", nullptr, &core::Params::icp_min_inlier_fraction, nullptr },
-};
-
 // Reads `name` as T when present. Returns false and explains when it is present but not a T.
 template <typename T>
 bool readOne(const ParamSource& source, const std::string& name, T& value, bool& present,
@@ -49,40 +29,47 @@ bool readOne(const ParamSource& source, const std::string& name, T& value, bool&
   return false;
 }
 
+// Reads a parameter under every name it is accepted under (core::ParamInfo::names()); the
+// first name given wins, and names given with different values are an error.
 template <typename T>
-void readAliased(const ParamSource& source, const ParamName& param, T& field, std::vector<std::string>& errors)
+void readAliased(const ParamSource& source, const core::ParamInfo& param, T& field, std::vector<std::string>& errors)
 {
-  T by_ros_name = field;
-  T by_paper_name = field;
-  bool has_ros_name = false;
-  bool has_paper_name = false;
-  const bool ok = readOne(source, param.ros_name, by_ros_name, has_ros_name, errors) &
-                  (param.paper_name == nullptr ||
-                   readOne(source, param.paper_name, by_paper_name, has_paper_name, errors));
+  const std::vector<std::string> names = param.names();
+  std::vector<T> values(names.size(), field);
+  std::vector<bool> given(names.size(), false);
+  bool ok = true;
+  for (std::size_t k = 0; k < names.size(); ++k)
+  {
+    bool present = false;
+    ok = readOne(source, names[k], values[k], present, errors) && ok;
+    given[k] = present;
+  }
   if (!ok)
     return;
-  if (has_ros_name && has_paper_name && by_ros_name != by_paper_name)
+  std::size_t first = names.size();
+  for (std::size_t k = 0; k < names.size(); ++k)
   {
-    errors.push_back(std::string("parameters ") + param.ros_name + " = " + std::to_string(by_ros_name) + " and " +
-                     param.paper_name + " = " + std::to_string(by_paper_name) +
-                     " name the same value and disagree; give only one");
-    return;
+    if (!given[k])
+      continue;
+    if (first == names.size())
+      first = k;
+    else if (values[k] != values[first])
+      errors.push_back("parameters " + names[first] + " = " + std::to_string(values[first]) + " and " + names[k] +
+                       " = " + std::to_string(values[k]) + " name the same value and disagree; give only one");
   }
-  if (has_ros_name)
-    field = by_ros_name;
-  else if (has_paper_name)
-    field = by_paper_name;
+  if (first < names.size())
+    field = values[first];
 }
 }  // namespace
 
 core::Params readParams(const ParamSource& source, std::vector<std::string>& errors)
 {
   core::Params params;
-  for (const ParamName& param : kParamNames)
+  for (const core::ParamInfo& param : core::parameterTable())
   {
     if (param.real_field != nullptr)
       readAliased(source, param, params.*param.real_field, errors);
-    else
+    else if (param.integer_field != nullptr)
       readAliased(source, param, params.*param.integer_field, errors);
   }
   return params;
@@ -95,30 +82,31 @@ core::Params readParams(const ros::NodeHandle& private_nh, std::vector<std::stri
 
 void writeParams(const ros::NodeHandle& private_nh, const core::Params& params)
 {
-  for (const ParamName& param : kParamNames)
+  for (const core::ParamInfo& param : core::parameterTable())
   {
     if (param.real_field != nullptr)
-      private_nh.setParam(param.ros_name, params.*param.real_field);
-    else
-      private_nh.setParam(param.ros_name, params.*param.integer_field);
+      private_nh.setParam(param.name, params.*param.real_field);
+    else if (param.integer_field != nullptr)
+      private_nh.setParam(param.name, params.*param.integer_field);
   }
 }
 
 core::Params fromConfig(const PreFilterConfig& config)
 {
   core::Params params;
-  params.min_range = config.min_measure_distance;
-  params.max_range = config.max_measure_distance;
-  params.outlier_radius = config.outlierFilter_searchRadius;
-  params.outlier_min_neighbors = config.outlierFilter_minNeighbors;
-  params.echo_threshold = config.substract_threshold_distance;
-  params.plane_threshold = config.planeDetection_threshold_distance;
-  params.min_object_points = config.planeDetection_minAmountPoints;
-  params.vision_cone_margin = config.visionCone_threshold;
-  params.icp_max_distance = config.max_Dist_ICP;
-  params.icp_fitness_threshold = config.fitness_Fct_ICP;
-  params.icp_min_points = config.icp_min_points;
-  params.icp_min_inlier_fraction = config.icp_min_inlier_fraction;
+  for (const PreFilterConfig::AbstractParamDescriptionConstPtr& description : PreFilterConfig::__getParamDescriptions__())
+  {
+    const core::ParamInfo* param = core::findParameter(description->name);
+    if (param == nullptr || !param->reconfigurable || param->name != description->name)
+      throw std::logic_error("cfg/PreFilter.cfg has the parameter " + description->name +
+                             ", which is no reconfigurable parameter of the parameter table");
+    boost::any value;
+    description->getValue(config, value);
+    if (param->real_field != nullptr)
+      params.*param->real_field = boost::any_cast<double>(value);
+    else
+      params.*param->integer_field = boost::any_cast<int>(value);
+  }
   return params;
 }
 

@@ -50,16 +50,20 @@ private:
 
 core::Params readParams(const ParamSource& source, std::vector<std::string>& errors);
 
-// Reads every pipeline parameter from `private_nh`, under its original launch file name
-// (e.g. `outlierFilter_searchRadius`) or its paper name (e.g. `r`); absent ones keep their
-// defaults. Appends to `errors` a message for each value that cannot be read (wrong type,
-// both names given with different values). Range checks are Params::validate()'s job.
+// Reads every pipeline parameter of the parameter table (core/param_table.h) from `private_nh`,
+// under any name it is accepted under: its original launch file name (e.g.
+// `outlierFilter_searchRadius`), its paper symbol (e.g. `r`) or an alias; absent ones keep their
+// defaults. Appends to `errors` a message for each value that cannot be read (wrong type, two
+// names given with different values). Range checks are Params::validate()'s job.
 core::Params readParams(const ros::NodeHandle& private_nh, std::vector<std::string>& errors);
 
 // Writes the parameters back under their original names, so that the dynamic_reconfigure
-// server starts from what was read (including values given under paper names).
+// server starts from what was read (including values given under other names).
 void writeParams(const ros::NodeHandle& private_nh, const core::Params& params);
 
+// The parameters of a dynamic_reconfigure request, matched to the table by name (throws
+// std::logic_error should cfg/PreFilter.cfg name a parameter the table does not have as
+// reconfigurable; test_parameters keeps the two equal).
 core::Params fromConfig(const PreFilterConfig& config);
 
 }  // namespace ros_io

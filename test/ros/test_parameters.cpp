@@ -1,0 +1,191 @@
+// The ROS side of the parameter table: cfg/PreFilter.cfg (as dynamic_reconfigure generated it),
+// fromConfig and readParams agree with core/param_table.h, and so do the start-up readers'
+// defaults. (The cfg file's descriptions are checked against the table by
+// test/python/test_parameter_docs.py.)
+#include <gtest/gtest.h>
+
+#include <boost/any.hpp>
+#include <dynamic_reconfigure/Config.h>
+
+#include <climits>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/dual_return.h"
+#include "ohm_mirror_detector3d/core/param_table.h"
+#include "ohm_mirror_detector3d/ros/dual_return.h"
+#include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
+#include "ohm_mirror_detector3d/ros/parameters.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace
+{
+using Description = PreFilterConfig::AbstractParamDescriptionConstPtr;
+
+double numberOf(const Description& description, const PreFilterConfig& config)
+{
+  boost::any value;
+  description->getValue(config, value);
+  return description->type == "double" ? boost::any_cast<double>(value) : boost::any_cast<int>(value);
+}
+
+std::vector<const core::ParamInfo*> reconfigurableRows()
+{
+  std::vector<const core::ParamInfo*> rows;
+  for (const core::ParamInfo& param : core::parameterTable())
+    if (param.reconfigurable)
+      rows.push_back(&param);
+  return rows;
+}
+
+TEST(Parameters, TheReconfigureConfigHoldsTheTablesReconfigurableRowsWithTheirTypesAndDefaultsUnclamped)
+{
+  const std::vector<Description>& descriptions = PreFilterConfig::__getParamDescriptions__();
+  const std::vector<const core::ParamInfo*> rows = reconfigurableRows();
+  ASSERT_EQ(descriptions.size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k)
+  {
+    const core::ParamInfo& param = *rows[k];
+    const Description& description = descriptions[k];
+    SCOPED_TRACE(param.name);
+    EXPECT_EQ(description->name, param.name) << "in the table's order";
+    EXPECT_EQ(description->type, param.type == core::ParamType::real ? "double" : "int");
+    EXPECT_EQ(numberOf(description, PreFilterConfig::__getDefault__()), param.default_value.number);
+    // No min/max: dynamic_reconfigure would clamp silently where the pre-filter refuses.
+    if (param.type == core::ParamType::real)
+    {
+      EXPECT_EQ(numberOf(description, PreFilterConfig::__getMin__()), -std::numeric_limits<double>::infinity());
+      EXPECT_EQ(numberOf(description, PreFilterConfig::__getMax__()), std::numeric_limits<double>::infinity());
+    }
+    else
+    {
+      EXPECT_EQ(numberOf(description, PreFilterConfig::__getMin__()), INT_MIN);
+      EXPECT_EQ(numberOf(description, PreFilterConfig::__getMax__()), INT_MAX);
+    }
+  }
+}
+
+TEST(Parameters, FromConfigSetsEveryParameterFromItsOwnField)
+{
+  dynamic_reconfigure::Config message;
+  int k = 1;
+  for (const core::ParamInfo* param : reconfigurableRows())
+  {
+    if (param->type == core::ParamType::real)
+    {
+      dynamic_reconfigure::DoubleParameter value;
+      value.name = param->name;
+      value.value = 0.5 + k;
+      message.doubles.push_back(value);
+    }
+    else
+    {
+      dynamic_reconfigure::IntParameter value;
+      value.name = param->name;
+      value.value = 1000 + k;
+      message.ints.push_back(value);
+    }
+    ++k;
+  }
+  PreFilterConfig config = PreFilterConfig::__getDefault__();
+  ASSERT_TRUE(config.__fromMessage__(message));
+  const core::Params params = ros_io::fromConfig(config);
+  k = 1;
+  for (const core::ParamInfo* param : reconfigurableRows())
+  {
+    EXPECT_EQ(param->value(params), param->type == core::ParamType::real ? 0.5 + k : 1000 + k) << param->name;
+    ++k;
+  }
+}
+
+// Parameters as a map of names to numbers (integers stay integers, as on the parameter server).
+class MapParams : public ros_io::ParamSource
+{
+public:
+  std::map<std::string, double> numbers;
+  std::set<std::string> integers;
+
+  bool has(const std::string& name) const override { return numbers.count(name) > 0; }
+  bool get(const std::string& name, double& value) const override
+  {
+    if (!has(name))
+      return false;
+    value = numbers.at(name);
+    return true;
+  }
+  bool get(const std::string& name, int& value) const override
+  {
+    if (integers.count(name) == 0)
+      return false;
+    value = static_cast<int>(numbers.at(name));
+    return true;
+  }
+  bool get(const std::string&, std::string&) const override { return false; }
+  bool get(const std::string&, std::vector<double>&) const override { return false; }
+  std::string describe(const std::string& name) const override { return "~" + name; }
+};
+
+TEST(Parameters, ReadParamsTakesEveryNameTheTableAcceptsAndRefusesDisagreeingOnes)
+{
+  for (const core::ParamInfo* param : reconfigurableRows())
+  {
+    for (const std::string& name : param->names())
+    {
+      SCOPED_TRACE(name);
+      MapParams source;
+      source.numbers[name] = param->type == core::ParamType::real ? 7.25 : 7.0;
+      if (param->type == core::ParamType::integer)
+        source.integers.insert(name);
+      std::vector<std::string> errors;
+      const core::Params params = ros_io::readParams(source, errors);
+      EXPECT_TRUE(errors.empty());
+      EXPECT_EQ(param->value(params), source.numbers[name]);
+    }
+    const std::vector<std::string> names = param->names();
+    if (names.size() < 2)
+      continue;
+    MapParams source;
+    source.numbers[names[0]] = 3.0;
+    source.numbers[names[1]] = 4.0;
+    source.integers = { names[0], names[1] };
+    std::vector<std::string> errors;
+    ros_io::readParams(source, errors);
+    ASSERT_EQ(errors.size(), 1u) << param->name;
+    EXPECT_NE(errors[0].find("name the same value and disagree"), std::string::npos) << errors[0];
+  }
+  MapParams source;
+  source.numbers["n_inlier"] = 5.5;  // not an integer
+  std::vector<std::string> errors;
+  ros_io::readParams(source, errors);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0], "parameter ~n_inlier has the wrong type: expected an integer");
+}
+
+TEST(Parameters, TheStartUpReadersDefaultsAreTheTables)
+{
+  const MapParams none;
+  std::vector<std::string> errors;
+  EXPECT_EQ(ros_io::readAzimuthResolution(none, errors), core::findParameter("azimuth_resolution_deg")->default_value.number);
+  const ros_io::MultiEchoScanOptions scan_options;
+  EXPECT_EQ(scan_options.sweep_period, core::findParameter("sweep_period")->default_value.number);
+  EXPECT_STREQ(core::findParameter("rotation_axis")->default_value.text, "[0, 0, 1]");
+  EXPECT_EQ(scan_options.rotation_axis, Eigen::Vector3d::UnitZ());
+  // sweep_period's lower bound is where its reader starts refusing.
+  MapParams negative;
+  negative.numbers["sweep_frame"] = 0.0;
+  negative.numbers["sweep_period"] = std::nextafter(core::findParameter("sweep_period")->lower.value, -1.0);
+  errors.clear();
+  ros_io::readMultiEchoScanOptions(negative, errors);
+  bool refused = false;
+  for (const std::string& error : errors)
+    refused = refused || error.find("sweep_period") != std::string::npos;
+  EXPECT_TRUE(refused);
+}
+
+}  // namespace
+}  // namespace ohm_mirror_detector3d
