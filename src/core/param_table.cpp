@@ -70,6 +70,7 @@ ParamInfo pipelineRow(const char* field, double Params::*real_field, int Params:
                     doc,
                     "",
                     "Params::validate (core/params.h)",
+                    nullptr,
                     field,
                     real_field,
                     integer_field };
@@ -93,11 +94,11 @@ ParamInfo pipelineRow(const char* field, int Params::*integer_field, double defa
 
 ParamInfo startUpRow(ParamScope scope, ParamType type, const char* name, const char* aliases, ParamDefault default_value,
                      ParamBound lower, ParamBound upper, const char* unit, const char* doc, const char* allowed,
-                     const char* checked_by)
+                     const char* checked_by, std::string (*check)(double))
 {
-  return ParamInfo{ name,  "",    splitNames(aliases), name,       type,       scope,   false,   default_value,
-                    lower, upper, "",                  unit,       doc,        allowed, checked_by,
-                    "",    nullptr, nullptr };
+  return ParamInfo{ name,  "",    splitNames(aliases), name,    type,       scope, false, default_value,
+                    lower, upper, "",                  unit,    doc,        allowed, checked_by,
+                    check, "",    nullptr,             nullptr };
 }
 
 // The names users see: the ROS parameter name (original launch file) and its label.
@@ -202,8 +203,8 @@ const std::vector<ParamInfo>& parameterTable()
   pipelineRow(#field, &Params::field, default_value, name, symbol, aliases, label, lower, upper, greater_than, unit, \
               doc),
 #define OHM_START_UP_PARAMETER(scope, type, name, aliases, default_value, lower, upper, unit, doc, allowed, \
-                               checked_by)                                                                \
-  startUpRow(scope, type, name, aliases, default_value, lower, upper, unit, doc, allowed, checked_by),
+                               checked_by, check)                                                         \
+  startUpRow(scope, type, name, aliases, default_value, lower, upper, unit, doc, allowed, checked_by, check),
 #include "ohm_mirror_detector3d/core/parameters.def"
 #undef OHM_PIPELINE_PARAMETER
 #undef OHM_START_UP_PARAMETER

@@ -43,62 +43,42 @@ OUTPUT_DTYPE = _core.OUTPUT_DTYPE
 OBJECT_TYPE_NAMES = {0: 'unknown', 1: 'mirror', 2: 'glass'}
 MODES = ('pair', 'dual_return')
 
-_CORE_DEFAULTS = _core.Params()
+# Every parameter of the pre-filter (core/param_table.h), one dict per row in the table's order:
+# name (the ROS name), names (every name it is accepted under), symbol, type ('real', 'integer',
+# 'text', 'real_list'), scope ('pipeline', 'core_input', 'ros_input', 'node'), default, ranges,
+# unit, doc, and for pipeline parameters the field of the core's Params.
+PARAMETER_TABLE = tuple(_core.parameter_table())
 
-# Every pipeline parameter: ROS name (original launch file, cfg/PreFilter.cfg), paper name or
-# None, the field of core::Params, and its type (as src/ros/parameters.cpp reads them).
-PARAMETERS = (
-    ('min_measure_distance', 'd_min', 'min_range', float),
-    ('max_measure_distance', 'd_max', 'max_range', float),
-    ('outlierFilter_searchRadius', 'r', 'outlier_radius', float),
-    ('outlierFilter_minNeighbors', 'n_inlier', 'outlier_min_neighbors', int),
-    ('substract_threshold_distance', 'd_thres', 'echo_threshold', float),
-    ('planeDetection_threshold_distance', 'd_thres_plane', 'plane_threshold', float),
-    ('planeDetection_minAmountPoints', 'n_object', 'min_object_points', int),
-    ('visionCone_threshold', 'd_thres_visionCone', 'vision_cone_margin', float),
-    ('max_Dist_ICP', 'icp_max_distance', 'icp_max_distance', float),
-    ('fitness_Fct_ICP', 'icp_fitness_threshold', 'icp_fitness_threshold', float),
-    ('icp_min_points', None, 'icp_min_points', int),
-    ('icp_min_inlier_fraction', None, 'icp_min_inlier_fraction', float),
-)
-# Input mode dual_return only.
-AZIMUTH_RESOLUTION = 'azimuth_resolution_deg'
+_KINDS = {'real': float, 'integer': int}
+# The rows this module's Params holds: the pipeline's and those of the core's input adapters.
+_ROWS = tuple(row for row in PARAMETER_TABLE if row['scope'] in ('pipeline', 'core_input'))
 
-# Keys of the ROS parameter files that are not pipeline parameters but harmless here.
-ROS_ONLY_KEYS = frozenset({'input_mode', 'sensor_frame', 'sub_input_scan', 'pub_labelled', 'pub_cleaned',
-                           'pub_objects', 'pub_markers', 'queue_size'})
+# Every pipeline parameter: ROS name (original launch file, cfg/PreFilter.cfg), paper symbol or
+# other accepted name (None when it has none), the field of the core's Params, and its type.
+PARAMETERS = tuple((row['name'], (row['names'][1:] or [None])[0], row['field'], _KINDS[row['type']])
+                   for row in PARAMETER_TABLE if row['scope'] == 'pipeline')
+
+# Names of the ROS parameter files that are the node's and prefilter_bag's only (input mode,
+# frames, topic names, ...): accepted by Params.from_dict and not used here.
+ROS_ONLY_KEYS = frozenset(name for row in PARAMETER_TABLE if row not in _ROWS for name in row['names'])
 
 _DECIMAL = re.compile(r'^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$')
 
 
-@dataclass
-class Params:
-    """Pre-filter parameters under their ROS names, with the nodelet's defaults."""
-    min_measure_distance: float = _CORE_DEFAULTS.min_range
-    max_measure_distance: float = _CORE_DEFAULTS.max_range
-    outlierFilter_searchRadius: float = _CORE_DEFAULTS.outlier_radius
-    outlierFilter_minNeighbors: int = _CORE_DEFAULTS.outlier_min_neighbors
-    substract_threshold_distance: float = _CORE_DEFAULTS.echo_threshold
-    planeDetection_threshold_distance: float = _CORE_DEFAULTS.plane_threshold
-    planeDetection_minAmountPoints: int = _CORE_DEFAULTS.min_object_points
-    visionCone_threshold: float = _CORE_DEFAULTS.vision_cone_margin
-    max_Dist_ICP: float = _CORE_DEFAULTS.icp_max_distance
-    fitness_Fct_ICP: float = _CORE_DEFAULTS.icp_fitness_threshold
-    icp_min_points: int = _CORE_DEFAULTS.icp_min_points
-    icp_min_inlier_fraction: float = _CORE_DEFAULTS.icp_min_inlier_fraction
-    azimuth_resolution_deg: float = _core.DEFAULT_AZIMUTH_RESOLUTION_DEG
+class _ParamsMethods:
+    """The methods of Params (a dataclass made from the parameter table below)."""
 
     def type_errors(self) -> List[str]:
         """One message per value of the wrong type (an int is a number; a number is not an int)."""
         errors = []
-        kinds = [(ros, kind) for ros, _, _, kind in PARAMETERS] + [(AZIMUTH_RESOLUTION, float)]
-        for name, kind in kinds:
-            value = getattr(self, name)
+        for row in _ROWS:
+            kind = _KINDS[row['type']]
+            value = getattr(self, row['name'])
             ok = (isinstance(value, (int, np.integer)) if kind is int else
                   isinstance(value, (int, float, np.integer, np.floating))) and not isinstance(value, bool)
             if not ok:
                 errors.append('parameter %s = %r has the wrong type: expected %s'
-                              % (name, value, 'an integer' if kind is int else 'a number'))
+                              % (row['name'], value, 'an integer' if kind is int else 'a number'))
         return errors
 
     def to_core(self):
@@ -112,13 +92,17 @@ class Params:
         return out
 
     def validate(self) -> List[str]:
-        """One message per bad value, the nodelet's messages (Params::validate); empty when all are fine."""
+        """One message per bad value, the nodelet's messages (Params::validate and the input
+        adapters' checks); empty when all are fine."""
         errors = self.type_errors()
         if errors:
             return errors
         errors = list(self.to_core().validate())
-        problem = _core.validate_azimuth_resolution(float(self.azimuth_resolution_deg))
-        return errors + ([problem] if problem else [])
+        for row in _ROWS:
+            if row['scope'] != 'pipeline':
+                problem = _core.check_start_up(row['name'], float(getattr(self, row['name'])))
+                errors += [problem] if problem else []
+        return errors
 
     def check(self):
         """Raises TypeError (wrong types) or ValueError (out of range) naming every bad value."""
@@ -131,14 +115,15 @@ class Params:
     @classmethod
     def from_dict(cls, values: Dict[str, Any], base: Optional['Params'] = None, source: str = 'parameters',
                   ignore=ROS_ONLY_KEYS) -> 'Params':
-        """Params from ROS names or paper names (as the nodelet reads them); keys in `ignore` are
-        skipped. Raises ValueError for unknown names and for a ROS name and its paper name that
-        disagree, TypeError for values of the wrong type."""
+        """Params from any name a parameter is accepted under (ROS name, paper symbol, alias; as
+        the nodelet reads them); keys in `ignore` are skipped. Raises ValueError for unknown names
+        and for two names of one parameter that disagree, TypeError for values of the wrong type."""
         params = dataclasses.replace(base) if base is not None else cls()
         values = dict(values)
         errors, type_errors = [], []
-        for ros, paper, _, kind in PARAMETERS + ((AZIMUTH_RESOLUTION, None, None, float),):
-            given = [(n, values.pop(n)) for n in (ros, paper) if n is not None and n in values]
+        for row in _ROWS:
+            kind = _KINDS[row['type']]
+            given = [(n, values.pop(n)) for n in row['names'] if n in values]
             converted = []
             for name, value in given:
                 # PyYAML reads plain `5e-3` as a string; the nodelet's YAML reader takes it as a number.
@@ -151,16 +136,16 @@ class Params:
                                        % (name, value, source, 'an integer' if kind is int else 'a number'))
                     continue
                 converted.append((name, kind(value)))
-            if len(converted) == 2 and converted[0][1] != converted[1][1]:
+            disagreeing = [other for other in converted[1:] if other[1] != converted[0][1]]
+            for other in disagreeing:
                 errors.append('parameters %s = %s and %s = %s (in %s) name the same value and disagree; give only one'
-                              % (converted[0] + converted[1] + (source,)))
-            elif converted:
-                setattr(params, ros, converted[0][1])
+                              % (converted[0] + other + (source,)))
+            if converted and not disagreeing:
+                setattr(params, row['name'], converted[0][1])
         unknown = sorted(k for k in values if k not in ignore)
         if unknown:
             errors.append('unknown parameter%s in %s: %s (known: %s)' % (
-                's' if len(unknown) > 1 else '', source, ', '.join(unknown),
-                ', '.join([p[0] for p in PARAMETERS] + [AZIMUTH_RESOLUTION])))
+                's' if len(unknown) > 1 else '', source, ', '.join(unknown), ', '.join(row['name'] for row in _ROWS)))
         if type_errors:
             raise TypeError('invalid pre-filter parameters:\n  ' + '\n  '.join(type_errors + errors))
         if errors:
@@ -171,6 +156,13 @@ class Params:
     def from_yaml(cls, path: str) -> 'Params':
         """Params from a ROS parameter file such as launch/rotating_hokuyo_params.yaml."""
         return cls.from_dict(read_yaml(path), source=str(path))
+
+
+Params = dataclasses.make_dataclass(
+    'Params', [(row['name'], _KINDS[row['type']], dataclasses.field(default=row['default'])) for row in _ROWS],
+    bases=(_ParamsMethods,), namespace={'__module__': __name__})
+Params.__doc__ = ('Pre-filter parameters under their ROS names, with the nodelet\'s defaults: one field per '
+                  'pipeline and core input row of the parameter table (PARAMETER_TABLE).')
 
 
 def read_yaml(path) -> Dict[str, Any]:

@@ -26,6 +26,7 @@
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/labels.h"
 #include "ohm_mirror_detector3d/core/output_records.h"
+#include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/pipeline.h"
 
@@ -161,6 +162,66 @@ void throwPartlyFinite(const char* name, std::int64_t index, const Eigen::Vector
   message << name << " point " << index << " = (" << p.x() << ", " << p.y() << ", " << p.z()
           << ") is partly NaN/Inf: a missing return must be non-finite in all of x y z (REP-117)";
   throw py::value_error(message.str());
+}
+
+py::object boundOf(const core::ParamBound& bound)
+{
+  if (!bound.present)
+    return py::none();
+  py::dict d;
+  d["value"] = bound.value;
+  d["inclusive"] = bound.inclusive;
+  return std::move(d);
+}
+
+py::object textOrNone(const char* text)
+{
+  return *text == '\0' ? py::object(py::none()) : py::object(py::str(text));
+}
+
+// The parameter table (core/param_table.h) as a list of dicts, one per row, in its order.
+py::list parameterTable()
+{
+  py::list rows;
+  for (const core::ParamInfo& param : core::parameterTable())
+  {
+    py::dict row;
+    row["name"] = param.name;
+    row["symbol"] = textOrNone(param.symbol);
+    row["aliases"] = param.aliases;
+    row["names"] = param.names();
+    row["label"] = param.label;
+    row["type"] = core::paramTypeName(param.type);
+    row["scope"] = core::paramScopeName(param.scope);
+    row["reconfigurable"] = param.reconfigurable;
+    if (param.type == core::ParamType::integer)
+      row["default"] = static_cast<int>(param.default_value.number);
+    else if (param.type == core::ParamType::real)
+      row["default"] = param.default_value.number;
+    else
+      row["default"] = param.default_value.text;
+    row["when_unset"] = textOrNone(param.default_value.when_unset);
+    row["lower"] = boundOf(param.lower);
+    row["upper"] = boundOf(param.upper);
+    row["above"] = textOrNone(param.above);
+    row["unit"] = param.unit;
+    row["doc"] = param.doc;
+    row["allowed"] = param.allowed;
+    row["checked_by"] = param.checked_by;
+    row["field"] = textOrNone(param.field);
+    rows.append(row);
+  }
+  return rows;
+}
+
+// Empty when `value` is usable for the start-up parameter `name`, otherwise why not; the check
+// of its row, or nothing for a parameter without one.
+std::string checkStartUp(const std::string& name, double value)
+{
+  const core::ParamInfo* param = core::findParameter(name);
+  if (param == nullptr)
+    throw py::key_error("no parameter " + name);
+  return param->check != nullptr ? param->check(value) : std::string();
 }
 
 py::dict objectToDict(const core::ReflectiveObject& object)
@@ -373,23 +434,20 @@ PYBIND11_MODULE(_core, m)
   m.doc() = "The ROS-free pre-filter core on numpy arrays; use ohm_mirror_detector3d.core instead.";
 
   PYBIND11_NUMPY_DTYPE(core::OutputRecord, x, y, z, intensity, label, echo, beam);
-  m.attr("OUTPUT_DTYPE") = py::dtype::of<core::OutputRecord>();
 
-  py::class_<core::Params>(m, "Params", "The core's parameters under their C++ names (core/params.h).")
-      .def(py::init<>())
-      .def_readwrite("min_range", &core::Params::min_range)
-      .def_readwrite("max_range", &core::Params::max_range)
-      .def_readwrite("outlier_radius", &core::Params::outlier_radius)
-      .def_readwrite("outlier_min_neighbors", &core::Params::outlier_min_neighbors)
-      .def_readwrite("echo_threshold", &core::Params::echo_threshold)
-      .def_readwrite("plane_threshold", &core::Params::plane_threshold)
-      .def_readwrite("min_object_points", &core::Params::min_object_points)
-      .def_readwrite("vision_cone_margin", &core::Params::vision_cone_margin)
-      .def_readwrite("icp_max_distance", &core::Params::icp_max_distance)
-      .def_readwrite("icp_fitness_threshold", &core::Params::icp_fitness_threshold)
-      .def_readwrite("icp_min_points", &core::Params::icp_min_points)
-      .def_readwrite("icp_min_inlier_fraction", &core::Params::icp_min_inlier_fraction)
-      .def("validate", &core::Params::validate, "One message per bad value; empty when all are acceptable.");
+  py::class_<core::Params> params(m, "Params", "The core's parameters under their C++ names (core/params.h).");
+  params.def(py::init<>());
+  for (const core::ParamInfo& param : core::parameterTable())
+  {
+    if (param.real_field != nullptr)
+      params.def_readwrite(param.field, param.real_field);
+    else if (param.integer_field != nullptr)
+      params.def_readwrite(param.field, param.integer_field);
+  }
+  params.def("validate", &core::Params::validate, "One message per bad value; empty when all are acceptable.");
+  m.def("parameter_table", &parameterTable, "Every parameter (core/param_table.h) as a dict, in the table's order.");
+  m.def("check_start_up", &checkStartUp, py::arg("name"), py::arg("value"),
+        "Empty when value is usable for the start-up parameter, otherwise why not (its core check).");
 
   py::class_<PythonPipeline>(m, "Pipeline")
       .def(py::init<const core::Params&>(), py::arg("params"))
@@ -403,9 +461,5 @@ PYBIND11_MODULE(_core, m)
            py::arg("azimuth_resolution_deg") = core::kDefaultAzimuthResolutionDeg,
            "(labelled, cleaned, objects, stats) of one cloud holding both returns.");
 
-  m.attr("DEFAULT_AZIMUTH_RESOLUTION_DEG") = core::kDefaultAzimuthResolutionDeg;
-  m.attr("MIN_AZIMUTH_RESOLUTION_DEG") = core::kMinAzimuthResolutionDeg;
-  m.attr("MAX_AZIMUTH_RESOLUTION_DEG") = core::kMaxAzimuthResolutionDeg;
-  m.def("validate_azimuth_resolution", &core::validateAzimuthResolution,
-        "Empty when the value is a usable azimuth_resolution_deg, otherwise why not.");
+  m.attr("OUTPUT_DTYPE") = py::dtype::of<core::OutputRecord>();
 }

@@ -159,6 +159,8 @@ TEST(ParamTable, StartUpRowsAreNotPipelineFieldsAndAreNotReconfigurable)
     EXPECT_EQ(param.integer_field, nullptr);
     EXPECT_NE(std::string(param.checked_by), "");
     EXPECT_NE(std::string(param.doc), "");
+    // Only a core input can be checked by the core.
+    EXPECT_TRUE(param.check == nullptr || param.scope == ParamScope::core_input);
     // Numbers say their range by bounds, everything else in words.
     const bool numeric = param.type == ParamType::real || param.type == ParamType::integer;
     EXPECT_EQ(std::string(param.allowed).empty(), numeric);
@@ -180,10 +182,12 @@ TEST(ParamTable, TheAzimuthResolutionRowIsWhatItsCheckAccepts)
   EXPECT_EQ(param.scope, ParamScope::core_input);
   EXPECT_EQ(param.default_value.number, core::kDefaultAzimuthResolutionDeg);
   ASSERT_TRUE(param.lower.present && param.lower.inclusive && param.upper.present && param.upper.inclusive);
-  EXPECT_EQ(core::validateAzimuthResolution(param.lower.value), "");
-  EXPECT_EQ(core::validateAzimuthResolution(param.upper.value), "");
-  EXPECT_NE(core::validateAzimuthResolution(std::nextafter(param.lower.value, 0.0)), "");
-  EXPECT_NE(core::validateAzimuthResolution(std::nextafter(param.upper.value, 100.0)), "");
+  ASSERT_EQ(param.check, &core::validateAzimuthResolution);
+  EXPECT_EQ(param.check(param.lower.value), "");
+  EXPECT_EQ(param.check(param.upper.value), "");
+  EXPECT_EQ(param.check(param.default_value.number), "");
+  EXPECT_NE(param.check(std::nextafter(param.lower.value, 0.0)), "");
+  EXPECT_NE(param.check(std::nextafter(param.upper.value, 100.0)), "");
 }
 
 }  // namespace

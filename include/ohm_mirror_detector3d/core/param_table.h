@@ -70,6 +70,9 @@ struct ParamInfo
   const char* doc;       // one line, Markdown
   const char* allowed;   // for non-numbers: what is allowed, in words
   const char* checked_by;  // the code that checks the value
+  // A start-up number the core checks: "" when the value is usable, otherwise why not (null
+  // for the others, which their readers check).
+  std::string (*check)(double value);
   // The field of core::Params by its C++ name ("" for start-up parameters) and its member
   // pointer (the one of its type; both null for start-up parameters).
   const char* field;
