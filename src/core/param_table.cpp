@@ -92,9 +92,9 @@ ParamInfo pipelineRow(const char* field, int Params::*integer_field, double defa
                      greater_than, unit, doc);
 }
 
-ParamInfo startUpRow(ParamScope scope, ParamType type, const char* name, const char* aliases, ParamDefault default_value,
-                     ParamBound lower, ParamBound upper, const char* unit, const char* doc, const char* allowed,
-                     const char* checked_by, std::string (*check)(double))
+ParamInfo startUpRow(ParamScope scope, ParamType type, const char* name, const char* aliases,
+                     ParamDefault default_value, ParamBound lower, ParamBound upper, const char* unit, const char* doc,
+                     const char* allowed, const char* checked_by, std::string (*check)(double))
 {
   return ParamInfo{ name,  "",    splitNames(aliases), name,    type,       scope, false, default_value,
                     lower, upper, "",                  unit,    doc,        allowed, checked_by,
