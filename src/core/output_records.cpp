@@ -8,21 +8,19 @@ namespace core
 {
 namespace
 {
-// Through a local record and memcpy: the destination is a byte buffer (a message's data, a
-// numpy array), and every byte of the record, padding included, is set.
+// Field by field into the byte buffer (a message's data, a numpy array), padding included. (A
+// record built on the stack and copied whole is twice as slow: its 16-byte load waits for the
+// narrower stores before it.)
 inline void writeRecord(std::uint8_t* out, const Eigen::Vector3f& position, float intensity, Label label,
                         std::uint8_t echo, std::uint32_t beam)
 {
-  OutputRecord record;
-  record.x = position.x();
-  record.y = position.y();
-  record.z = position.z();
-  record.intensity = intensity;
-  record.label = static_cast<std::uint8_t>(label);
-  record.echo = echo;
-  record.padding[0] = record.padding[1] = 0;
-  record.beam = beam;
-  std::memcpy(out, &record, sizeof(record));
+  std::memcpy(out + offsetof(OutputRecord, x), position.data(), 3 * sizeof(float));
+  std::memcpy(out + offsetof(OutputRecord, intensity), &intensity, sizeof(float));
+  out[offsetof(OutputRecord, label)] = static_cast<std::uint8_t>(label);
+  out[offsetof(OutputRecord, echo)] = echo;
+  out[offsetof(OutputRecord, padding)] = 0;
+  out[offsetof(OutputRecord, padding) + 1] = 0;
+  std::memcpy(out + offsetof(OutputRecord, beam), &beam, sizeof(beam));
 }
 }  // namespace
 
