@@ -9,8 +9,10 @@ SANITIZED_INCLUDES="-I$repo/include -I$repo/test/fuzz -I$ws/devel/include -I/usr
 # The ROS-side sources the input adapters need (no nodelet, no roscpp node).
 SANITIZED_ROS_SOURCES=$(for f in point_fields conversions dual_return message_walker problem_throttle hokuyo3d_legacy \
   message_pipeline multi_echo_scan parameters; do echo "$repo/src/ros/$f.cpp"; done)
+# dynamic_reconfigure's mutex library: fromConfig (parameters.cpp) reads PreFilterConfig's descriptions.
 SANITIZED_LIBS="-lpcl_registration -lpcl_sample_consensus -lpcl_search -lpcl_kdtree -lpcl_features -lpcl_common \
-  -ltf2_ros -ltf2 -lroscpp -lrosconsole -lroscpp_serialization -lrostime -lcpp_common -lboost_system -lpthread"
+  -ltf2_ros -ltf2 -lroscpp -lrosconsole -lroscpp_serialization -lrostime -lcpp_common -lboost_system -lpthread \
+  -ldynamic_reconfigure_config_init_mutex"
 
 # compile_in_parallel HEADER_DIRS... < SOURCES: compiles each source (one per line) into
 # $out/obj/<folder>_<name>.o with $CXX $CXXFLAGS $COMPILE_ONLY_FLAGS, two at a time. An object is
