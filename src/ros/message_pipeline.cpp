@@ -10,10 +10,19 @@ MessagePipeline::MessagePipeline(const core::Params& params) : pipeline_(params)
 {
 }
 
-const core::PipelineResult& MessagePipeline::process(const std_msgs::Header& header, const OutputRequest& request,
+const core::PipelineResult& MessagePipeline::process(const core::SweepContext& context, const OutputRequest& request,
                                                      OutputMessages& outputs)
 {
+  // Until core::Pipeline::process takes the context: the stages find the scanner's position in
+  // the sweep's origin, and the ranges are measured from it.
+  const Eigen::Vector3f sensor_origin = context.sensorOrigin();
+  if (sweep_.origin != sensor_origin)
+  {
+    sweep_.origin = sensor_origin;
+    sweep_.computeRanges();
+  }
   const core::PipelineResult& result = pipeline_.process(sweep_);
+  const std_msgs::Header header = toHeader(context);
   outputs = OutputMessages();
   if (request.labelled)
   {

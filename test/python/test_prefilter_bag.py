@@ -192,7 +192,9 @@ def test_unreadable_and_missing_bags(binary, tmp_path):
     ('d_thres: "0.05"\n', 'd_thres (in '),
     ('input_mode: sideways\n', "input_mode 'sideways' is unknown"),
     ('[1, 2]\n', 'must be a map'),
-    ('sensor_frame: laser\n', 'sensor_frame (in '),
+    ('sensor_frame: [laser]\n', 'parameter sensor_frame (in '),
+    ('input_mode: multi_echo_scan\nsweep_frame: base_link\nsensor_frame: laser\n',
+     'sensor_frame is not used in input_mode multi_echo_scan'),
 ])
 def test_bad_parameters(binary, bags, tmp_path, yaml_text, expected):
     params, out_bag = tmp_path / 'params.yaml', tmp_path / 'out.bag'

@@ -1,4 +1,4 @@
-// The pre-filter on ROS messages: an input adapter fills sweep(), process() runs the core
+// The pre-filter on ROS messages: an input adapter fills sweep() (input_mode.h), process() runs the core
 // pipeline and builds the output messages. The nodelet and prefilter_bag both use it, so
 // they run exactly the same code.
 #pragma once
@@ -9,6 +9,7 @@
 
 #include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
 #include "ohm_mirror_detector3d/core/pipeline.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -44,9 +45,10 @@ public:
   // The sweep the input adapters fill; reused from message to message.
   core::Sweep& sweep() { return sweep_; }
 
-  // Runs the pipeline on sweep() and builds the requested outputs, stamped and framed with
-  // `header`. The result is valid until the next call.
-  const core::PipelineResult& process(const std_msgs::Header& header, const OutputRequest& request,
+  // Runs the pipeline on sweep() with what `context` says about it (the vision cones start at
+  // the scanner's position) and builds the requested outputs, stamped and framed as the context
+  // says. The result is valid until the next call.
+  const core::PipelineResult& process(const core::SweepContext& context, const OutputRequest& request,
                                       OutputMessages& outputs);
 
 private:
