@@ -287,7 +287,8 @@ void addTransforms(const rosbag::MessageInstance& message, tf2::BufferCore& tf, 
   }
   catch (const std::exception& e)
   {
-    receiver.inputProblem(InputProblem{ true, "message", message.getTopic(), std::string("cannot be read: ") + e.what() });
+    receiver.inputProblem(
+        InputProblem{ true, "message", message.getTopic(), std::string("cannot be read: ") + e.what() });
     return;
   }
   const bool is_static = message.getTopic() == kTfStaticTopic;
@@ -393,7 +394,8 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   std::set<std::string> read_topics;
   for (const WantedTopic& topic : wanted)
     if (!read_topics.insert(topic.name).second)
-      throw BagToolError("input mode " + options.input_mode + " reads " + topic.name + " twice; its topics must differ");
+      throw BagToolError("input mode " + options.input_mode + " reads " + topic.name +
+                         " twice; its topics must differ");
   std::string tf_user;
   if (input.readsTf())
     tf_user = options.input.sensor_frame.empty() ? "input mode " + options.input_mode :

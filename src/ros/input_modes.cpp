@@ -120,7 +120,8 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     sink_ = &sink;
     if (!pending_[side].insert(cloud->header.stamp).second)
-      reportDropped(sink, "sweep", topics(), "two clouds on " + names_[side] + " have the same stamp; the first is dropped");
+      reportDropped(sink, "sweep", topics(),
+                    "two clouds on " + names_[side] + " have the same stamp; the first is dropped");
     // The receipt time is not used: given, so that no ros::Time::now() is needed (prefilter_bag).
     const ros::MessageEvent<const Cloud> event(cloud, ros::Time());
     if (side == 0)
@@ -219,7 +220,9 @@ public:
   {
     addTopic<topic_tools::ShapeShifter>(
         topic_, "--input-topic", kSweepQueueSize,
-        [this](const topic_tools::ShapeShifter::ConstPtr& message, const InputSink& sink) { onMessage(*message, sink); },
+        [this](const topic_tools::ShapeShifter::ConstPtr& message, const InputSink& sink) {
+          onMessage(*message, sink);
+        },
         "ohm_hokuyo3d/CoordDistMulti");
   }
 
