@@ -59,15 +59,15 @@ const std::string& builtinLegacyScanDefinition()
   return definition;
 }
 
-ros::AdvertiseOptions advertiseOptions(const AnnouncedType& type, const std::string& topic, std::uint32_t queue_size,
-                                       const ros::SubscriberStatusCallback& connect,
-                                       const ros::SubscriberStatusCallback& disconnect)
+ros::Publisher advertise(ros::NodeHandle& nh, const AnnouncedType& type, const std::string& topic,
+                         std::uint32_t queue_size, const ros::SubscriberStatusCallback& connect,
+                         const ros::SubscriberStatusCallback& disconnect)
 {
   ros::AdvertiseOptions options(topic, queue_size, type.md5sum, type.datatype, type.definition, connect, disconnect);
   // roscpp would write a sequence number over the first bytes of a message "with a header";
   // these messages start with other fields.
   options.has_header = false;
-  return options;
+  return nh.advertise(options);
 }
 
 void LegacyWriter::PointSetBuffers::resize(std::size_t points)

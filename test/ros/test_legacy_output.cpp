@@ -337,17 +337,5 @@ TEST(LegacyOutput, RefusesDefinitionsThatDoNotFitAndKeepsTheOneInUse)
   EXPECT_EQ(writer.write(header("laser"), somePoints())->getMD5Sum(), builtin.md5sum);
 }
 
-TEST(LegacyOutput, AdvertisesTheAnnouncedTypeWithoutAHeaderSequence)
-{
-  const ros_io::LegacyPointSetWriter writer;
-  const ros::AdvertiseOptions options = ros_io::advertiseOptions(writer.type(), "/cleaned_scan", 3);
-  EXPECT_EQ(options.topic, "/cleaned_scan");
-  EXPECT_EQ(options.queue_size, 3u);
-  EXPECT_EQ(options.md5sum, writer.type().md5sum);
-  EXPECT_EQ(options.datatype, "ohm_hokuyo3d/CoordDist");
-  EXPECT_EQ(options.message_definition, writer.type().definition);
-  EXPECT_FALSE(options.has_header);
-}
-
 }  // namespace
 }  // namespace ohm_mirror_detector3d

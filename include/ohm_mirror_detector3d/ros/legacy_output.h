@@ -17,12 +17,14 @@
 // Wiring, e.g. for a point set:
 //   LegacyPointSetWriter writer;                       // built-in definition
 //   writer.useDefinition(driver->getDataType(), driver->getMessageDefinition());  // if known
-//   ros::Publisher pub = nh.advertise(advertiseOptions(writer.type(), "/cleaned_scan", 1));
+//   ros::Publisher pub = advertise(nh, writer.type(), "/cleaned_scan", 1);
 //   pub.publish(writer.write(header, points, sweep.origin));
+// A publisher announces one type: after a useDefinition() that changed type().md5sum (a driver
+// whose layout differs from the reconstruction), advertise again.
 #pragma once
 
 #include <Eigen/Core>
-#include <ros/advertise_options.h>
+#include <ros/node_handle.h>
 #include <std_msgs/Header.h>
 #include <topic_tools/shape_shifter.h>
 
@@ -52,11 +54,12 @@ struct AnnouncedType
 extern const char* const kLegacyScanDatatype;
 const std::string& builtinLegacyScanDefinition();
 
-// Options to advertise `topic` with `type` (a publisher of ShapeShifters); the callbacks
-// let a nodelet publish only while someone subscribes.
-ros::AdvertiseOptions advertiseOptions(const AnnouncedType& type, const std::string& topic, std::uint32_t queue_size,
-                                       const ros::SubscriberStatusCallback& connect = ros::SubscriberStatusCallback(),
-                                       const ros::SubscriberStatusCallback& disconnect = ros::SubscriberStatusCallback());
+// Advertises `topic` of `nh` as `type`, for the ShapeShifters of a writer; the callbacks let a
+// nodelet publish only while someone subscribes.
+ros::Publisher advertise(ros::NodeHandle& nh, const AnnouncedType& type, const std::string& topic,
+                         std::uint32_t queue_size,
+                         const ros::SubscriberStatusCallback& connect = ros::SubscriberStatusCallback(),
+                         const ros::SubscriberStatusCallback& disconnect = ros::SubscriberStatusCallback());
 
 // What both writers share: the definition in use, its announced type, the reused buffers.
 class LegacyWriter
