@@ -19,7 +19,7 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
   python3-sensor-msgs python3-geometry-msgs python3-visualization-msgs python3-tf2-ros python3-tf2-msgs \
   python3-numpy python3-matplotlib python3-pytest libgtest-dev rosbash tf2-tools \
   libtopic-tools-dev python3-genpy pybind11-dev python3-pybind11 python3-dev python3-yaml python3-venv \
-  libdiagnostic-updater-dev python3-diagnostic-msgs rviz xvfb xauth imagemagick catkin-lint
+  libdiagnostic-updater-dev python3-diagnostic-msgs rviz xvfb xauth imagemagick xdotool catkin-lint
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
