@@ -12,13 +12,13 @@ V, RS, BR, NAN = Label.VALID, Label.REFLECTIVE_SURFACE, Label.BEHIND_REFLECTIVE,
 def hand_made_ground_truth():
     """Three beams: 0 a single valid return, 1 mirror surface + phantom, 2 no return."""
     nan = [np.nan] * 3
-    rows = [  # measured, true, label, object, echo, beam
-        ([1, 0, 0], [1, 0, 0], V, -1, 1, 0), ([2, 0, 0], [2, 0, 0], RS, 0, 1, 1), (nan, nan, NAN, -1, 1, 2),
-        ([1, 0, 0], [1, 0, 0], V, -1, 2, 0), ([5, 0, 0], [-1, 0, 0], BR, 0, 2, 1), (nan, nan, NAN, -1, 2, 2),
+    rows = [  # measured, true, label, object, echo, beam, double echo
+        ([1, 0, 0], [1, 0, 0], V, -1, 1, 0, 0), ([2, 0, 0], [2, 0, 0], RS, 0, 1, 1, 1), (nan, nan, NAN, -1, 1, 2, 0),
+        ([1, 0, 0], [1, 0, 0], V, -1, 2, 0, 0), ([5, 0, 0], [-1, 0, 0], BR, 0, 2, 1, 1), (nan, nan, NAN, -1, 2, 2, 0),
     ]
     gt = np.zeros(len(rows), GROUND_TRUTH_DTYPE)
-    for i, (m, t, lab, obj, echo, beam) in enumerate(rows):
-        gt[i] = (*m, *t, lab, obj, echo, beam)
+    for i, (m, t, lab, obj, echo, beam, double) in enumerate(rows):
+        gt[i] = (*m, *t, lab, obj, echo, beam, double)
     return gt
 
 
