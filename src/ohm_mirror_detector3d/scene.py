@@ -132,6 +132,7 @@ class Scene:
     description: str = ''
     rectangles: List[Rectangle] = field(default_factory=list)
     scanner_pose: Pose = field(default_factory=Pose)
+    layout: dict = field(default_factory=dict)   # what a generator knows of the scene (random_scenes)
 
     def add(self, rect):
         """Adds a rectangle; mirror, glass and metal rectangles get the next object id."""
@@ -483,12 +484,20 @@ def names():
     return list(_REGISTRY)
 
 
+RANDOM_PREFIX = 'random_'
+
+
 def get(name):
-    """A fresh instance of the named scene (KeyError with the known names otherwise)."""
+    """A fresh instance of the named scene, or `random_SEED` for random_scenes.random_scene(SEED)
+    (KeyError with the known names otherwise)."""
+    if name.startswith(RANDOM_PREFIX) and name[len(RANDOM_PREFIX):].isdigit():
+        from .random_scenes import random_scene
+        return random_scene(int(name[len(RANDOM_PREFIX):]))
     try:
         return _REGISTRY[name]()
     except KeyError:
-        raise KeyError('unknown scene %r; known: %s' % (name, ', '.join(_REGISTRY))) from None
+        raise KeyError('unknown scene %r; known: %s, or %sSEED (a random scene)'
+                       % (name, ', '.join(_REGISTRY), RANDOM_PREFIX)) from None
 
 
 def register(name, builder):
