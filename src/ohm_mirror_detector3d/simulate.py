@@ -289,12 +289,12 @@ def depth_edge_beams(returns, scanner, threshold):
     grid = signature.reshape(rows, cols)
     row_step, col_step = scanner.grid_steps()
     reach = np.radians(scanner.beam_divergence_deg) / 2
-    k_rows = max(1, int(np.ceil(reach / max(row_step, 1e-12))))
-    k_cols = max(1, int(np.ceil(reach / max(col_step, 1e-12))))
+    k_rows = min(rows - 1, max(1, int(np.ceil(reach / max(row_step, 1e-9)))))
+    k_cols = min(cols - 1, max(1, int(np.ceil(reach / max(col_step, 1e-9)))))
     edge = np.zeros((rows, cols), bool)
     for dr in range(-k_rows, k_rows + 1):
         for dc in range(-k_cols, k_cols + 1):
-            if (dr, dc) == (0, 0) or abs(dr) > rows - 1:
+            if (dr, dc) == (0, 0):
                 continue
             shifted = np.roll(grid, (dr, dc), axis=(0, 1))
             differs = shifted != grid
