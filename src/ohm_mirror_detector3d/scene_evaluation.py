@@ -266,14 +266,46 @@ def markdown(summaries, title, command, params_name, physics):
 
 
 def write(out_dir, summaries, results, md_text, meta):
+    """DIR/evaluation.md and DIR/evaluation.json: meta, the summaries (indented) and one line per sweep
+    (its figures without the confusion matrices, which the summaries pool)."""
     os.makedirs(out_dir, exist_ok=True)
     json_path, md_path = os.path.join(out_dir, 'evaluation.json'), os.path.join(out_dir, 'evaluation.md')
-    per_sweep = [{k: v for k, v in metrics.strip_raw(r).items() if k not in ('confusion',)} for r in results]
+    sweeps = [_rounded(report.jsonable(_sweep_line(r))) for r in results]
     with open(json_path, 'w') as f:
-        json.dump(report.jsonable({'meta': meta, 'summary': summaries, 'sweeps': per_sweep}), f, indent=1)
+        f.write('{"meta": %s,\n"summary": %s,\n"sweeps": [\n%s\n]}\n' % (
+            json.dumps(report.jsonable(meta)), json.dumps(report.jsonable(summaries), indent=1),
+            ',\n'.join(json.dumps(r, separators=(',', ':')) for r in sweeps)))
     with open(md_path, 'w') as f:
         f.write(md_text)
     return json_path, md_path
+
+
+_OBJECT_KEYS = ('truth_name', 'truth_type', 'truth_surface_points', 'matched', 'detected_type', 'width_error',
+                'height_error', 'corner_error_max')
+
+
+def _sweep_line(result):
+    """A sweep's figures for the JSON: without confusion matrices and error statistics (the summaries
+    pool them), objects with the keys that say what was found."""
+    line = {k: v for k, v in metrics.strip_raw(result).items()
+            if k not in ('confusion', 'confusion_coarse', 'objects', 'false_positive_objects', 'ground_truth_counts',
+                         'backprojection_error')}
+    line['backprojection_error_median'] = (result.get('backprojection_error') or {}).get('median')
+    line['objects'] = [{k: m[k] for k in _OBJECT_KEYS if k in m} for m in result.get('objects', [])]
+    line['false_objects'] = [{'type': f['detected_type'], 'width': f['width'], 'height': f['height']}
+                             for f in result.get('false_positive_objects', [])]
+    return line
+
+
+def _rounded(x, digits=4):
+    """Floats to `digits` significant digits (the per-sweep lines stay short)."""
+    if isinstance(x, dict):
+        return {k: _rounded(v, digits) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_rounded(v, digits) for v in x]
+    if isinstance(x, float):
+        return float('%.*g' % (digits, x))
+    return x
 
 
 def run(families, count=DEFAULT_SCENES, seed=0, params=None, named=True, physics=None, progress=None):
@@ -292,6 +324,94 @@ def run(families, count=DEFAULT_SCENES, seed=0, params=None, named=True, physics
     return results, summarise(results)
 
 
+def realism(families, count=DEFAULT_SCENES, seed=0, physics=None):
+    """What the simulated random scenes look like, in the terms SENSORS.md describes real frames in
+    (no filter involved): {family: figures}."""
+    from .labels import Label
+    out = {}
+    for family in families:
+        t = dict(points=0, sweeps=0, second=0, second_ordinary=0, gaps=[], glass_phantoms=0, glass_phantoms_bare=0,
+                 behind_glass=0, behind_glass_single=0, panes_seen=0, panes_with_surface=0, pane_surface=[])
+        for case in cases([family], count, seed, named=False):
+            sweep = SweepSimulator(scenes.get(case.scene), scanner_of(case), physics).sweep(seed=case.seed)
+            gt, n = sweep.ground_truth, sweep.num_beams
+            label, obj = gt['label'], gt['object_id']
+            double = gt['double_echo'][:n].astype(bool)
+            has = np.isfinite(gt['x'][:n])
+            t['sweeps'] += 1
+            t['points'] += int(has.sum() + double.sum())
+            t['second'] += int(double.sum())
+            t['second_ordinary'] += int((double & (label[:n] == Label.VALID) & (label[n:] == Label.VALID)).sum())
+            r1 = np.linalg.norm(np.stack([gt['x'][:n], gt['y'][:n], gt['z'][:n]], 1)[double], axis=1)
+            r2 = np.linalg.norm(np.stack([gt['x'][n:], gt['y'][n:], gt['z'][n:]], 1)[double], axis=1)
+            t['gaps'].append(r2 - r1)
+            for o in sweep.objects:
+                if o['material'] != scenes.GLASS:
+                    continue
+                mine = obj == o['id']
+                surface_beams = np.zeros(n, bool)
+                surface_beams[np.flatnonzero(mine & (label == Label.TRANSPARENT_SURFACE)) % n] = True
+                beams2 = np.r_[surface_beams, surface_beams]
+                phantom = mine & (label == Label.BEHIND_REFLECTIVE) & np.r_[np.ones(n, bool), double]
+                behind = mine & (label == Label.BEHIND_TRANSPARENT) & np.r_[np.ones(n, bool), double]
+                t['glass_phantoms'] += int(phantom.sum())
+                t['glass_phantoms_bare'] += int((phantom & ~beams2).sum())
+                t['behind_glass'] += int(behind.sum())
+                t['behind_glass_single'] += int((behind & ~np.r_[double, double]).sum())
+                seen = int((mine & (label != Label.NAN_POINT)).sum())
+                if seen:
+                    t['panes_seen'] += 1
+                    if surface_beams.any():
+                        t['panes_with_surface'] += 1
+                        t['pane_surface'].append(int(surface_beams.sum()))
+        gaps = np.concatenate(t['gaps']) if t['gaps'] else np.zeros(0)
+        out[family] = {
+            'points_per_sweep': t['points'] / max(t['sweeps'], 1),
+            'second_return_share': _ratio(t['second'], t['points']),
+            'second_return_gap_min': float(gaps.min()) if len(gaps) else None,
+            'second_return_gap_median': float(np.median(gaps)) if len(gaps) else None,
+            'panes_with_surface_echo_share': _ratio(t['panes_with_surface'], t['panes_seen']),
+            'surface_echo_beams_per_pane_median': float(np.median(t['pane_surface'])) if t['pane_surface'] else None,
+            'glass_reflections_without_surface_echo': _ratio(t['glass_phantoms_bare'], t['glass_phantoms']),
+            'behind_glass_single_echo': _ratio(t['behind_glass_single'], t['behind_glass']),
+            'second_returns_on_ordinary_geometry': _ratio(t['second_ordinary'], t['second']),
+        }
+    return out
+
+
+REALISM_ROWS = (
+    ('points_per_sweep', 'points per frame', 'about 34k', '%.0f'),
+    ('second_return_share', 'second returns, share of all points', 'about 3 %', 'percent'),
+    ('second_return_gap_min', 'second return beyond its first, at least [m]', '~0.9', '%.2f'),
+    ('second_return_gap_median', 'second return beyond its first, median [m]', 'several metres', '%.2f'),
+    ('panes_with_surface_echo_share', 'panes seen that give a surface echo at all', '–', 'percent'),
+    ('surface_echo_beams_per_pane_median', 'beams with a surface echo per pane that gives one, median',
+     'a few tens', '%.0f'),
+    ('glass_reflections_without_surface_echo', 'reflections seen in glass without a surface echo', 'about 60 %',
+     'percent'),
+    ('behind_glass_single_echo', 'points behind glass that come as single echoes', 'about 40 %', 'percent'),
+    ('second_returns_on_ordinary_geometry', 'second returns on ordinary geometry (both echoes real)',
+     'about a fifth', 'percent'),
+)
+
+
+def realism_table(figures):
+    families = list(figures)
+    lines = ['| figure | real frames (64-ring lidar, SENSORS.md) | ' + ' | '.join(families) + ' |',
+             '|---|---|' + '---|' * len(families)]
+    for key, what, real, fmt in REALISM_ROWS:
+        cells = []
+        for family in families:
+            v = figures[family][key]
+            cells.append('–' if v is None else ('%.1f %%' % (100 * v) if fmt == 'percent' else fmt % v))
+        lines.append('| %s | %s | %s |' % (what, real, ' | '.join(cells)))
+    return '\n'.join(lines) + '\n'
+
+
+def _ratio(a, b):
+    return float(a) / b if b else None
+
+
 def main(argv=None):
     import argparse
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -306,6 +426,8 @@ def main(argv=None):
     p.add_argument('--out', help='directory for evaluation.md and evaluation.json')
     p.add_argument('--title', default='Pre-filter on random and named scenes')
     p.add_argument('--check', action='store_true', help='exit 1 when a target is not met')
+    p.add_argument('--realism', action='store_true',
+                   help='no filter: what the random scenes look like, beside what SENSORS.md says of real frames')
     args = p.parse_args(argv)
     from . import core
     from .progress import Progress
@@ -317,6 +439,9 @@ def main(argv=None):
         return 2
     physics = PhysicsParams() if args.physics == 'realistic' else PhysicsParams.ideal()
     started = time.time()
+    if args.realism:
+        print(realism_table(realism(families, args.scenes, args.seed, physics)))
+        return 0
     results, summaries = run(families, args.scenes, args.seed, params, not args.no_named, physics,
                              progress=lambda total: Progress('scene_evaluation', total))
     command = 'python3 -m ohm_mirror_detector3d.scene_evaluation --scenes %d --seed %d' % (args.scenes, args.seed)

@@ -73,3 +73,15 @@ def test_a_small_run_writes_the_table_with_the_targets(core, tmp_path, capsys):
         assert key in summary
     assert ev.main(['--families', 'leica']) == 2
     assert ev.main(['--params', str(tmp_path / 'missing.yaml')]) == 2
+
+
+def test_realism_figures_of_the_random_scenes():
+    """The figures compared with SENSORS.md's real frames: the 64-ring lidar stores a second return only
+    at least ~0.9 m beyond its first, and some of its double echoes lie on ordinary geometry."""
+    figures = ev.realism(['hesai_qt64'], count=3, seed=3)['hesai_qt64']
+    assert 20000 < figures['points_per_sweep'] < 60000
+    assert 0.9 - 0.06 < figures['second_return_gap_min'] < figures['second_return_gap_median']
+    assert 0.0 < figures['second_return_share'] < 0.2
+    assert 0.0 < figures['second_returns_on_ordinary_geometry'] < 0.5
+    table = ev.realism_table({'hesai_qt64': figures})
+    assert 'about a fifth' in table and 'hesai_qt64' in table.splitlines()[0]
