@@ -31,7 +31,7 @@ def family_summary(request):
     return request.param, summaries
 
 
-@pytest.mark.parametrize('target', [t for t in ev.TARGETS if t[3] is not None], ids=lambda t: t[1])
+@pytest.mark.parametrize('target', [t for t in ev.TARGETS if t[3] is not None], ids=lambda t: '-'.join(t[0]))
 def test_target_is_met(family_summary, target):
     family, summaries = family_summary
     key, what, bound, met = target
