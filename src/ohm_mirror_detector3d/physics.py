@@ -34,7 +34,7 @@ proportional to E^2.
   polarisation, `R = 2 r / (1 + r)` of the light (Fresnel's r of one surface,
   both surfaces, incoherent multiple reflections; unpolarised: the mean), and
   transmits 1 - R: 8 % reflected at perpendicular incidence, 16 % at 60 deg,
-  56 % at 80 deg, all of it at grazing incidence. Every hit splits the ray
+  54 % at 80 deg, all of it at grazing incidence. Every hit splits the ray
   into a reflected and a transmitted one, so one pane yields surface echoes
   (near perpendicular: lobe s = 1.7 deg, haze 0.05 %), points behind it and
   reflected phantoms in the same sweep, phantoms mostly where the beam meets

@@ -32,7 +32,7 @@ from typing import Optional
 
 import numpy as np
 
-from . import metrics, random_scenes, report
+from . import metrics, report
 from . import scanner as scanners
 from . import scene as scenes
 from .physics import PhysicsParams

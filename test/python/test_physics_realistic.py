@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from ohm_mirror_detector3d import scene as sc
-from ohm_mirror_detector3d import scanner, simulate
+from ohm_mirror_detector3d import scanner
 from ohm_mirror_detector3d.dual_return_cloud import dual_return_arrays
 from ohm_mirror_detector3d.labels import Label
 from ohm_mirror_detector3d.physics import PhysicsParams, SceneArrays, pane_reflectance, trace
