@@ -18,12 +18,12 @@ APT_PACKAGES := build-essential cmake ros-base-dev librosbag-dev libyaml-cpp-dev
   libtf2-ros-dev libtf2-eigen-dev python3-rostest python3-dynamic-reconfigure \
   python3-sensor-msgs python3-geometry-msgs python3-visualization-msgs python3-tf2-ros python3-tf2-msgs \
   python3-numpy python3-matplotlib python3-pytest libgtest-dev rosbash tf2-tools \
-  libtopic-tools-dev python3-genpy pybind11-dev python3-pybind11 python3-dev python3-yaml \
-  libdiagnostic-updater-dev python3-diagnostic-msgs rviz xvfb xauth imagemagick catkin-lint
+  libtopic-tools-dev python3-genpy pybind11-dev python3-pybind11 python3-dev python3-yaml python3-venv \
+  libdiagnostic-updater-dev python3-diagnostic-msgs rviz xvfb xauth imagemagick xdotool catkin-lint
 
 SOURCE_WS := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build test demo bench test-compat print-apt-packages clean fuzz fuzz-build test-sanitize soak
+.PHONY: all deps build test demo bench evaluate test-compat print-apt-packages clean fuzz fuzz-build test-sanitize soak
 all: build
 
 # Installs only what is missing, so a prepared machine pays one dpkg-query.
@@ -77,6 +77,18 @@ bench:
 	$(MAKE) build BUILD_TYPE=Release CMAKE_EXTRA=-DOHM_BUILD_BENCH=ON
 	$(SOURCE_WS) && /usr/bin/python3 bench/run_bench.py --binary $(WS)/devel/lib/$(PKG)/bench_pipeline \
 	  --output $(CURDIR)/bench/results.json
+
+# Not part of `make test`: the filter (the Python bindings, no master) on EVALUATE_SCENES random scenes per
+# sensor family of SENSORS.md plus the named scenes, realistic physics, scored against the ground truth
+# with issue 14's targets beside the figures: table on stdout, EVALUATE_OUT/evaluation.md and .json.
+# EVALUATE_ARGS adds options, e.g. --params launch/rotating_hokuyo_params.yaml --families hokuyo --seed 100.
+EVALUATE_SCENES ?= 50
+EVALUATE_OUT ?= $(CURDIR)/evaluation/latest
+EVALUATE_ARGS ?=
+evaluate:
+	$(MAKE) build BUILD_TYPE=Release
+	$(SOURCE_WS) && nice /usr/bin/python3 -m ohm_mirror_detector3d.scene_evaluation --scenes $(EVALUATE_SCENES) \
+	  --out $(EVALUATE_OUT) $(EVALUATE_ARGS)
 
 # Not part of `make test`: build and ctest in a Debian 11 (bullseye) chroot, the toolchain closest
 # to ROS Noetic robots (gcc 10, PCL 1.11, Python 3.9), plus vermin for Python 3.8. The chroot

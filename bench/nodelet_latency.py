@@ -117,10 +117,12 @@ def wait_for_master():
 
 
 def simulated_sweep(scans):
+    from ohm_mirror_detector3d.physics import PhysicsParams
     from ohm_mirror_detector3d.scanner import RotatingHokuyo
     from ohm_mirror_detector3d.simulate import SweepSimulator
-    return SweepSimulator('two_mirrors_and_glass', RotatingHokuyo(scans=scans, range_noise=0.01)).sweep(
-        seed=0, noise=0.01)
+    # The ideal physics (the simulator before issue 14), as run_bench.py: comparable with earlier runs.
+    return SweepSimulator('two_mirrors_and_glass', RotatingHokuyo(scans=scans, range_noise=0.01),
+                          PhysicsParams.ideal()).sweep(seed=0, noise=0.01)
 
 
 def measure_inprocess(args, port, params):

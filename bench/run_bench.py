@@ -29,6 +29,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'src'))
 
+from ohm_mirror_detector3d.physics import PhysicsParams  # noqa: E402
 from ohm_mirror_detector3d.scanner import DualReturnLidar, RotatingHokuyo  # noqa: E402
 from ohm_mirror_detector3d.simulate import SweepSimulator  # noqa: E402
 
@@ -39,6 +40,8 @@ SHORT = {'range_gate': 'gate', 'outlier_filter': 'outlier', 'echo_comparison': '
          'type_analysis': 'type', 'cone_labelling': 'cones', 'cleaned_output': 'cleaned'}
 NOISE = 0.01
 SEED = 0
+# The sweeps of the ideal physics (the simulator before issue 14): timings stay comparable with earlier runs.
+PHYSICS = PhysicsParams.ideal()
 
 
 def scanners():
@@ -175,7 +178,7 @@ def main():
                 continue
             for scene in SCENES:
                 started = time.perf_counter()
-                sweep = SweepSimulator(scene, scanner).sweep(seed=SEED, noise=NOISE)
+                sweep = SweepSimulator(scene, scanner, PHYSICS).sweep(seed=SEED, noise=NOISE)
                 path = os.path.join(tmp, '%s_%s.bin' % (size, scene))
                 write_sweep(path, sweep)
                 del sweep

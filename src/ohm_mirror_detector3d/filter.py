@@ -3,6 +3,8 @@
     python3 -m ohm_mirror_detector3d.filter IN [IN ...] [--out OUT] [--mode pair|dual_return]
                                             [--params FILE.yaml]
 
+(`ohm-mirror-filter` with the same arguments after `pip install` of the repository.)
+
 IN is a .ply (ascii or binary), .pcd (ascii or binary) or .npz file, a folder (every such file
 in it) or a glob pattern. For each input it writes the labelled cloud in the input's own format
 and encoding, with a `label` field (uint8, the labels of the README) added to every point, and a
@@ -40,6 +42,8 @@ from .core import MODES, Params, Pipeline, read_yaml
 RETURN_FIELDS = ('return', 'return_type', 'echo')
 RING_FIELDS = ('ring', 'channel')
 LABELLED_SUFFIX = '.labelled'
+# The console script of the pip install (pyproject.toml), named in --help when run as that.
+CONSOLE_SCRIPT = 'ohm-mirror-filter'
 
 
 def _xyz(points, path):
@@ -170,7 +174,8 @@ def output_paths(path, out, many):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
-        prog='python3 -m ohm_mirror_detector3d.filter',
+        prog=(CONSOLE_SCRIPT if os.path.basename(sys.argv[0]) == CONSOLE_SCRIPT
+              else 'python3 -m ohm_mirror_detector3d.filter'),
         description='Labels mirror and glass effects in multi-echo point cloud files (PLY, PCD, NPZ), without ROS.')
     parser.add_argument('inputs', nargs='+', metavar='IN', help='file, folder or glob pattern (quoted)')
     parser.add_argument('--out', help='labelled output file (one input) or folder (several inputs)')

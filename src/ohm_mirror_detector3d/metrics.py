@@ -35,6 +35,15 @@ transparentSurface and behindTransparent returns; "lost" when not in
 position. The back-projection error is the distance between a back-projected
 phantom (cleaned label behindReflective) and its true position.
 
+Intersection over union, per class of points: the ground truth's surface
+points (reflectiveSurface, transparentSurface) against the filter's
+(errorSurface, reflectiveSurface, transparentSurface), its phantoms
+(behindReflective) against the filter's behindReflective, its points behind
+glass (behindTransparent) against the filter's behindTransparent; counted over
+all physical returns, and over the returns of beams with two echoes (the
+double-echo points, where the filter can compare echoes at all).
+"Double-echo phantoms" are the phantoms among those.
+
 Objects: every ground-truth object is matched to at most one detection whose
 normal is within `max_normal_angle_deg` and whose centroid lies within
 `max_match_distance` of the ground-truth rectangle (distance to the
@@ -69,6 +78,15 @@ _COARSE = np.array([
 ])
 
 REAL_LABELS = (Label.VALID, Label.REFLECTIVE_SURFACE, Label.TRANSPARENT_SURFACE, Label.BEHIND_TRANSPARENT)
+
+# (class, ground-truth labels, filter labels) of the IoU figures.
+IOU_CLASSES = (
+    ('surface', (Label.REFLECTIVE_SURFACE, Label.TRANSPARENT_SURFACE),
+     (Label.ERROR_SURFACE, Label.REFLECTIVE_SURFACE, Label.TRANSPARENT_SURFACE)),
+    ('phantom', (Label.BEHIND_REFLECTIVE,), (Label.BEHIND_REFLECTIVE,)),
+    ('behind_glass', (Label.BEHIND_TRANSPARENT,), (Label.BEHIND_TRANSPARENT,)),
+)
+IOU_SETS = ('double_echo', 'all')
 
 
 def points_xyz(a, prefix=''):
@@ -142,6 +160,8 @@ def evaluate_sweep(ground_truth, labelled=None, cleaned=None, objects=None, grou
         result['confusion'] = _confusion_dict(full, LABEL_NAMES, LABEL_NAMES + ['missing'])
         result['confusion_coarse'] = _confusion_dict(coarse, COARSE_NAMES, COARSE_NAMES)
         raw['confusion'], raw['confusion_coarse'] = full, coarse
+        raw['iou_counts'] = iou_counts(gt_label, filt, physical, np.r_[two, two])
+        result['iou'] = _iou(raw['iou_counts'])
 
     # Points in cleaned.
     if cleaned is not None:
@@ -162,10 +182,13 @@ def evaluate_sweep(ground_truth, labelled=None, cleaned=None, objects=None, grou
         kept = phantom & present
         wrong = kept & (dist > tolerance)
         back = kept & (c_label[np.maximum(index, 0)] == Label.BEHIND_REFLECTIVE)
+        double_echo = np.r_[two, two]
         n_cleaned = int(len(c_label))
         counts = {
             'phantoms': int(phantom.sum()), 'phantoms_in_cleaned': int(kept.sum()),
             'phantoms_wrong_place': int(wrong.sum()), 'phantoms_dropped': int((phantom & ~present).sum()),
+            'double_echo_phantoms': int((phantom & double_echo).sum()),
+            'double_echo_phantoms_wrong_place': int((wrong & double_echo).sum()),
             'phantoms_back_projected': int(back.sum()),
             'phantoms_back_projected_correctly': int((back & (dist <= tolerance)).sum()),
             'cleaned_points': n_cleaned,
@@ -192,6 +215,21 @@ def evaluate_sweep(ground_truth, labelled=None, cleaned=None, objects=None, grou
     return result
 
 
+def iou_counts(gt_label, filter_label, physical, double_echo):
+    """{class: {'double_echo' | 'all': [intersection, union]}} over the physical returns (IOU_CLASSES)."""
+    out = {}
+    for name, truth_labels, filter_labels in IOU_CLASSES:
+        g = np.isin(gt_label, truth_labels) & physical
+        f = np.isin(filter_label, filter_labels) & physical
+        out[name] = {which: [int((g & f & m).sum()), int(((g | f) & m).sum())]
+                     for which, m in (('double_echo', double_echo), ('all', np.ones_like(physical)))}
+    return out
+
+
+def _iou(counts):
+    return {name: {which: _ratio(*c[which]) for which in IOU_SETS} for name, c in counts.items()}
+
+
 def _confusion_dict(matrix, rows, cols):
     return {'rows': rows, 'cols': cols, 'matrix': matrix.tolist()}
 
@@ -200,6 +238,8 @@ def _point_fractions(c):
     return {
         'counts': dict(c),
         'phantom_wrong_place_fraction': _ratio(c['phantoms_wrong_place'], c['phantoms']),
+        'double_echo_phantom_wrong_place_fraction': _ratio(c['double_echo_phantoms_wrong_place'],
+                                                           c['double_echo_phantoms']),
         'cleaned_wrong_place_fraction': _ratio(c['phantoms_wrong_place'], c['cleaned_points']),
         'real_lost_fraction': _ratio(c['real_lost'], c['real']),
         'real_displaced_fraction': _ratio(c['real_displaced'], c['real']),
@@ -285,6 +325,8 @@ def match_objects(truth_objects, detected_objects, max_normal_angle_deg=30.0, ma
         entry = {'truth_id': int(t.get('id', i)), 'truth_type': int(t.get('type', 0)),
                  'truth_name': t.get('name', ''), 'truth_width': float(t['width']),
                  'truth_height': float(t['height']), 'matched': i in pairs}
+        if 'surface_points' in t:
+            entry['truth_surface_points'] = int(t['surface_points'])
         if i in pairs:
             entry.update(compare_objects(detected_objects[pairs[i]], t))
         matches.append(entry)
@@ -310,6 +352,12 @@ def aggregate_results(results):
         mats = [r['_raw'][key] for r in results if key in r.get('_raw', {})]
         if mats:
             out[key] = _confusion_dict(np.sum(mats, axis=0), *names)
+    ious = [r['_raw']['iou_counts'] for r in results if 'iou_counts' in r.get('_raw', {})]
+    if ious:
+        total = {name: {which: np.sum([c[name][which] for c in ious], axis=0).tolist() for which in IOU_SETS}
+                 for name in ious[0]}
+        out['iou_counts'] = total
+        out['iou'] = _iou(total)
     counts = [r['_raw']['counts'] for r in results if 'counts' in r.get('_raw', {})]
     if counts:
         total = {k: int(sum(c[k] for c in counts)) for k in counts[0]}
@@ -337,6 +385,24 @@ def aggregate_results(results):
         out['false_positive_objects_per_sweep'] = float(np.mean([len(r.get('false_positive_objects', []))
                                                                  for r in results]))
     return out
+
+
+def type_accuracy(results, min_surface_points=50):
+    """Over the ground-truth objects of all results with at least min_surface_points surface echoes:
+    {'objects', 'right', 'fraction'}; an object is right when a detection matched it with its type."""
+    objects = [m for r in results for m in r.get('objects', [])
+               if m.get('truth_surface_points', 0) >= min_surface_points]
+    right = sum(1 for m in objects if m['matched'] and m['type_correct'])
+    return {'objects': len(objects), 'right': right, 'fraction': _ratio(right, len(objects))}
+
+
+def false_object_scenes(results):
+    """Over results without any ground-truth object: {'scenes', 'with_false_objects', 'fraction',
+    'false_objects'} (false_objects: how many in all)."""
+    plain = [r for r in results if 'objects' in r and not r['objects']]
+    with_false = sum(1 for r in plain if r.get('false_positive_objects'))
+    return {'scenes': len(plain), 'with_false_objects': with_false, 'fraction': _ratio(with_false, len(plain)),
+            'false_objects': int(sum(len(r.get('false_positive_objects', [])) for r in plain))}
 
 
 def strip_raw(result):

@@ -166,8 +166,18 @@ def echo_pair_to_arrays(msg):
 
 
 def ground_truth_from_cloud(msg):
-    """The ground-truth structured array (simulate.GROUND_TRUTH_DTYPE) from its PointCloud2."""
-    return cloud_to_array(msg, GROUND_TRUTH_DTYPE.names)
+    """The ground-truth structured array (simulate.GROUND_TRUTH_DTYPE) from its PointCloud2. Clouds
+    recorded before the double_echo field existed get it from the echoes' positions."""
+    if any(f.name == 'double_echo' for f in msg.fields):
+        return cloud_to_array(msg, GROUND_TRUTH_DTYPE.names)
+    old = cloud_to_array(msg, [n for n in GROUND_TRUTH_DTYPE.names if n != 'double_echo'])
+    out = np.zeros(len(old), GROUND_TRUTH_DTYPE)
+    for name in old.dtype.names:
+        out[name] = old[name]
+    from .metrics import ground_truth_layout
+    two = ground_truth_layout(out)[3]
+    out['double_echo'] = two[out['beam']]
+    return out
 
 
 def filter_output_from_msgs(labelled, cleaned, objects=None):

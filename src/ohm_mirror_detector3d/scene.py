@@ -2,27 +2,42 @@
 
 A scene is a list of `Rectangle`s in a world frame whose z axis points up
 (floor at z = 0), plus the default pose of the scanner. Boxes (furniture) are
-six rectangles; walls with door openings are several. Mirrors and glass panes
-are single rectangles and carry an object id (0, 1, ... in the order they were
-added): ground truth labels refer to it and the ground-truth object list is
-indexed by it.
+six rectangles; walls with door openings are several. Mirrors, glass panes
+and shiny metal panels are single rectangles and carry an object id (0, 1, ...
+in the order they were added): ground truth labels refer to it and the
+ground-truth object list is indexed by it.
 
-Materials (see physics.py for what the simulator does with them):
+Materials (see physics.py for what the simulator does with them; it has two
+models, `realistic` (the default) and `ideal` (the simulator as it was before
+glass reflected and beams had a footprint), and every material carries the
+parameters of both):
 
-* diffuse: returns an echo wherever it is hit; `albedo` scales the intensity.
+* diffuse: returns an echo wherever it is hit; `albedo` scales the intensity
+  (Lambertian).
 * mirror: a front side (the rectangle's normal) that reflects the beam
-  specularly and returns a surface echo of its own only while the incidence
-  angle is below `surface_echo_max_incidence_deg`; the back is diffuse.
-* glass: both sides alike; transmits the beam (attenuated by `transmission`),
-  returns a surface echo near perpendicular incidence, and reflects a fraction
-  `reflectance` of the beam when that is > 0 (default off).
+  specularly; the back is diffuse (`albedo`). Realistic: a share `reflectance`
+  is reflected at every incidence; the surface echo is a sharp specular peak
+  near perpendicular incidence (`specular_lobe_deg`) plus a faint diffuse
+  haze (`haze`: dust, the glass in front of the silver). Ideal: a surface echo
+  only below `surface_echo_max_incidence_deg`.
+* glass: both sides alike. Realistic: reflects and transmits by Fresnel's
+  equations for a pane of `refractive_index` (8 % reflected at perpendicular
+  incidence, rising to all of it at grazing incidence), so one pane gives
+  surface echoes near perpendicular, transmitted points and reflected phantoms
+  in the same sweep. Ideal: transmits (`transmission`), a surface echo below
+  the incidence limit, a reflected share `reflectance` only when it is > 0.
+* metal (shiny, brushed): partially specular. Realistic: a diffuse return
+  (`haze`) wherever it is hit and a specular reflection of `reflectance`, with
+  a broad lobe. Ideal: a mirror whose surface echo has no incidence limit.
 
-The incidence limits are chosen so the named scenes look like the paper's
-experiments: 20 deg for mirrors (the leaning/tilted 60 x 40 cm mirrors at
-about 2.3 m are seen at no more than ~15 deg, so the whole mirror gives double
-echoes, surface + phantom, as in experiments 1, 3 and 4), 4 deg for glass
-(a pane at 2.2 m then returns surface echoes on a disc of ~31 cm diameter
-around the perpendicular foot point, the paper's 31 x 24 cm patch).
+The ideal model's incidence limits are chosen so the named scenes look like
+the paper's experiments: 20 deg for mirrors (the leaning/tilted 60 x 40 cm
+mirrors at about 2.3 m are seen at no more than ~15 deg, so the whole mirror
+gives double echoes, surface + phantom, as in experiments 1, 3 and 4), 4 deg
+for glass (a pane at 2.2 m then returns surface echoes on a disc of ~31 cm
+diameter around the perpendicular foot point, the paper's 31 x 24 cm patch).
+The realistic model's lobes and hazes are chosen for the same observations
+(see physics.py).
 """
 import math
 from dataclasses import dataclass, field, replace
@@ -30,7 +45,8 @@ from typing import Callable, Dict, List, Tuple
 
 import numpy as np
 
-DIFFUSE, MIRROR, GLASS = 'diffuse', 'mirror', 'glass'
+DIFFUSE, MIRROR, GLASS, METAL = 'diffuse', 'mirror', 'glass', 'metal'
+SPECULAR_KINDS = (MIRROR, GLASS, METAL)
 
 # ReflectiveObject.type values of the message.
 OBJECT_TYPE_UNKNOWN, OBJECT_TYPE_MIRROR, OBJECT_TYPE_GLASS = 0, 1, 2
@@ -40,11 +56,16 @@ OBJECT_TYPE_UNKNOWN, OBJECT_TYPE_MIRROR, OBJECT_TYPE_GLASS = 0, 1, 2
 class Material:
     name: str
     kind: str = DIFFUSE
-    albedo: float = 0.6                          # diffuse reflectivity (also the back of a mirror)
+    albedo: float = 0.6                          # diffuse reflectivity (also the back of a mirror or metal panel)
+    # Ideal model.
     surface_echo_max_incidence_deg: float = 0.0  # mirror/glass: surface echo below this incidence angle
     surface_echo_strength: float = 1.0           # mirror/glass: peak of the surface echo relative to a white wall
-    reflectance: float = 0.0                     # mirror: reflected share; glass: partially reflected share (0 = off)
-    transmission: float = 0.0                    # glass: transmitted share
+    reflectance: float = 0.0                     # mirror/metal: reflected share (both models); glass: ideal only
+    transmission: float = 0.0                    # glass: transmitted share (ideal only)
+    # Realistic model.
+    refractive_index: float = 1.52               # glass: Fresnel reflection and transmission of the pane
+    specular_lobe_deg: float = 0.0               # mirror/glass/metal: spread of the specular reflection [deg]
+    haze: float = 0.0                            # mirror/glass/metal: diffuse albedo of the front side
 
 
 WALL = Material('wall', albedo=0.7)
@@ -54,10 +75,14 @@ WOOD = Material('wood', albedo=0.5)
 DOOR = Material('door', albedo=0.6)
 METAL_FRAME = Material('frame', albedo=0.3)
 FABRIC = Material('fabric', albedo=0.3)
+SKIN = Material('skin', albedo=0.45)
 MIRROR_GLASS = Material('mirror', kind=MIRROR, albedo=0.2, surface_echo_max_incidence_deg=20.0,
-                        surface_echo_strength=1.5, reflectance=0.9)
+                        surface_echo_strength=1.5, reflectance=0.9, specular_lobe_deg=2.0, haze=0.01)
 WINDOW_GLASS = Material('glass', kind=GLASS, albedo=0.0, surface_echo_max_incidence_deg=4.0,
-                        surface_echo_strength=0.8, reflectance=0.0, transmission=0.85)
+                        surface_echo_strength=0.8, reflectance=0.0, transmission=0.85,
+                        refractive_index=1.52, specular_lobe_deg=1.7, haze=0.0005)
+SHINY_METAL = Material('metal', kind=METAL, albedo=0.3, surface_echo_max_incidence_deg=90.0,
+                       surface_echo_strength=0.15, reflectance=0.5, specular_lobe_deg=8.0, haze=0.15)
 
 
 @dataclass(frozen=True)
@@ -73,7 +98,7 @@ class Rectangle:
     height: float
     material: Material
     name: str = ''
-    object_id: int = -1  # >= 0 for mirror/glass objects
+    object_id: int = -1  # >= 0 for mirror/glass/metal objects
 
     @property
     def normal(self):
@@ -107,9 +132,10 @@ class Scene:
     description: str = ''
     rectangles: List[Rectangle] = field(default_factory=list)
     scanner_pose: Pose = field(default_factory=Pose)
+    layout: dict = field(default_factory=dict)   # what a generator knows of the scene (random_scenes)
 
     def add(self, rect):
-        """Adds a rectangle; mirror and glass rectangles get the next object id."""
+        """Adds a rectangle; mirror, glass and metal rectangles get the next object id."""
         if rect.material.kind != DIFFUSE:
             rect = replace(rect, object_id=len(self.objects()))
         self.rectangles.append(rect)
@@ -120,7 +146,7 @@ class Scene:
             self.add(r)
 
     def objects(self):
-        """The mirror and glass rectangles, ordered by object id."""
+        """The mirror, glass and metal rectangles, ordered by object id."""
         return [r for r in self.rectangles if r.material.kind != DIFFUSE]
 
 
@@ -177,6 +203,22 @@ def box(centre_xy, size, height, material, yaw_deg=0.0, z0=0.0, name='box'):
     ]
     return [Rectangle(tuple(p), tuple(u), tuple(v), w, h, material, '%s_%d' % (name, i))
             for i, (p, u, v, w, h) in enumerate(faces)]
+
+
+def cylinder(centre_xy, radius, height, material, sides=8, z0=0.0, name='cylinder'):
+    """An upright prism of `sides` faces around a circle (a person, a column, a bin), with a top."""
+    cx, cy = centre_xy
+    half = radius * math.tan(math.pi / sides)   # half the width of a face
+    apothem = radius
+    rects = []
+    for i in range(sides):
+        a = 2 * math.pi * i / sides
+        n = np.array([math.cos(a), math.sin(a), 0.0])
+        u = np.array([-math.sin(a), math.cos(a), 0.0])
+        c = np.array([cx, cy, z0 + height / 2]) + n * apothem
+        rects.append(Rectangle(tuple(c), tuple(u), (0.0, 0.0, 1.0), 2 * half, height, material, '%s_%d' % (name, i)))
+    rects.append(horizontal((cx, cy, z0 + height), 2 * radius, 2 * radius, material, True, name + '_top'))
+    return rects
 
 
 def table(centre_xy, size, height, material=WOOD, yaw_deg=0.0, name='table'):
@@ -442,12 +484,20 @@ def names():
     return list(_REGISTRY)
 
 
+RANDOM_PREFIX = 'random_'
+
+
 def get(name):
-    """A fresh instance of the named scene (KeyError with the known names otherwise)."""
+    """A fresh instance of the named scene, or `random_SEED` for random_scenes.random_scene(SEED)
+    (KeyError with the known names otherwise)."""
+    if name.startswith(RANDOM_PREFIX) and name[len(RANDOM_PREFIX):].isdigit():
+        from .random_scenes import random_scene
+        return random_scene(int(name[len(RANDOM_PREFIX):]))
     try:
         return _REGISTRY[name]()
     except KeyError:
-        raise KeyError('unknown scene %r; known: %s' % (name, ', '.join(_REGISTRY))) from None
+        raise KeyError('unknown scene %r; known: %s, or %sSEED (a random scene)'
+                       % (name, ', '.join(_REGISTRY), RANDOM_PREFIX)) from None
 
 
 def register(name, builder):

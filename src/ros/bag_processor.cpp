@@ -1,8 +1,11 @@
 #include "ohm_mirror_detector3d/ros/bag_processor.h"
 
+#include <ros/serialization.h>
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
 #include <rosbag/view.h>
+#include <tf2/buffer_core.h>
+#include <tf2_msgs/TFMessage.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,7 +19,9 @@
 #include <set>
 #include <sstream>
 
+#include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
+#include "ohm_mirror_detector3d/ros/sweep_input.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -56,22 +61,50 @@ std::string describeTopics(rosbag::Bag& bag)
   return out.str();
 }
 
-// Refuses a bag that lacks one of the mode's topics or has it with another type.
+const char* const kTfTopic = "/tf";
+const char* const kTfStaticTopic = "/tf_static";
+
+// A topic the bag must (or may) have, with the type it must have there.
+struct WantedTopic
+{
+  std::string name;
+  std::string datatype;
+  std::string md5sum;    // "*": any type
+  std::string option;    // the command-line option that names it; empty for /tf, /tf_static
+  bool required = true;  // false: the bag may lack it
+};
+
+// The mode's topics and, when transforms are looked up, /tf and /tf_static (each optional here;
+// checkTopics wants at least one).
+std::vector<WantedTopic> wantedTopics(const SweepInput& input)
+{
+  std::vector<WantedTopic> wanted;
+  for (const std::unique_ptr<InputTopic>& topic : input.topics())
+    wanted.push_back({ topic->name, topic->datatype, topic->md5sum, topic->option, true });
+  if (input.readsTf())
+    for (const char* tf_topic : { kTfTopic, kTfStaticTopic })
+      wanted.push_back({ tf_topic, ros::message_traits::DataType<tf2_msgs::TFMessage>::value(),
+                         ros::message_traits::MD5Sum<tf2_msgs::TFMessage>::value(), "", false });
+  return wanted;
+}
+
+// Refuses a bag that lacks one of the mode's topics (or both tf topics when transforms are
+// looked up: `tf_user` says who needs them) or has one with another type.
 void checkTopics(rosbag::Bag& bag, const std::string& path, const std::string& mode,
-                 const std::vector<BagInputTopic>& topics)
+                 const std::vector<WantedTopic>& topics, const std::string& tf_user)
 {
   rosbag::View all(bag);
   std::map<std::string, std::vector<const rosbag::ConnectionInfo*>> connections;
   for (const rosbag::ConnectionInfo* connection : all.getConnections())
     connections[connection->topic].push_back(connection);
-  for (const BagInputTopic& wanted : topics)
+  for (const WantedTopic& wanted : topics)
   {
-    const auto found = connections.find(wanted.topic);
+    const auto found = connections.find(wanted.name);
     if (found == connections.end())
     {
       if (!wanted.required)
         continue;
-      throw BagToolError(path + " has no topic " + wanted.topic + " (input mode " + mode + "; " +
+      throw BagToolError(path + " has no topic " + wanted.name + " (input mode " + mode + "; " +
                          (wanted.option.empty() ? "" : "name another with " + wanted.option + " or ") +
                          "choose another --input-mode). Its topics are:" + describeTopics(bag));
     }
@@ -80,15 +113,18 @@ void checkTopics(rosbag::Bag& bag, const std::string& path, const std::string& m
       if (wanted.md5sum == "*")
         continue;  // any type: the mode's decoder names what a message lacks
       if (connection->datatype != wanted.datatype)
-        throw BagToolError("topic " + wanted.topic + " in " + path + " has type " + connection->datatype +
+        throw BagToolError("topic " + wanted.name + " in " + path + " has type " + connection->datatype +
                            ", but input mode " + mode + " needs " + wanted.datatype + ". The bag's topics are:" +
                            describeTopics(bag));
-      if (connection->md5sum != wanted.md5sum && wanted.md5sum != "*")
-        throw BagToolError("topic " + wanted.topic + " in " + path + " has " + wanted.datatype + " with MD5 " +
+      if (connection->md5sum != wanted.md5sum)
+        throw BagToolError("topic " + wanted.name + " in " + path + " has " + wanted.datatype + " with MD5 " +
                            connection->md5sum + ", but this build's " + wanted.datatype + " has MD5 " +
                            wanted.md5sum + " (a different message definition)");
     }
   }
+  if (!tf_user.empty() && connections.count(kTfTopic) == 0 && connections.count(kTfStaticTopic) == 0)
+    throw BagToolError(path + " has neither " + kTfTopic + " nor " + kTfStaticTopic + ", which " + tf_user +
+                       " needs (the transforms are taken from the bag). Its topics are:" + describeTopics(bag));
 }
 
 // The output file under its partial name until commit(); removed if never committed.
@@ -112,7 +148,10 @@ public:
       log_ << "prefilter_bag: could not remove the incomplete output " << partial_path_ << "\n";
   }
 
-  rosbag::Bag& open()
+  // The bag the output goes to; written to only after open().
+  rosbag::Bag& bag() { return bag_; }
+
+  void open()
   {
     try
     {
@@ -123,7 +162,6 @@ public:
     {
       throw BagToolError("cannot write " + partial_path_ + ": " + e.what());
     }
-    return bag_;
   }
 
   void commit()
@@ -152,8 +190,9 @@ std::string formatMs(double seconds)
   return out.str();
 }
 
-// Runs the pipeline on each sweep an input mode completes and writes its outputs.
-class Processor : public SweepSink
+// Runs the pipeline on each sweep the input completes and writes its outputs at the bag time of
+// the message being read.
+class Processor : public SweepReceiver
 {
 public:
   Processor(const BagToolOptions& options, rosbag::Bag& out, BagToolSummary& summary, std::ostream& log)
@@ -171,29 +210,33 @@ public:
     return { labelled_topic_, cleaned_topic_, objects_topic_, markers_topic_ };
   }
 
-  core::Sweep& sweep() { return pipeline_.sweep(); }
-
-  // Called before each input message, so that a sweep's time includes its conversion.
-  void startMessage() { message_start_ = Clock::now(); }
-
-  void sweepReady(const std_msgs::Header& header, const core::SweepContext& context,
-                  const ros::Time& bag_time) override
+  // Called before each message the input reads, so that a sweep's time includes its conversion.
+  void startMessage(const ros::Time& bag_time)
   {
+    message_start_ = Clock::now();
+    bag_time_ = bag_time;
+  }
+  // The bag time of the message being read: the clock of the wait for sensor_frame's transform.
+  const ros::Time& bagTime() const { return bag_time_; }
+
+  void sweepReady(core::Sweep& sweep, const core::SweepContext& context) override
+  {
+    std::swap(pipeline_.sweep(), sweep);
     OutputMessages outputs;
-    const core::PipelineResult& result = pipeline_.process(header, context, OutputRequest(), outputs);
+    const core::PipelineResult& result = pipeline_.process(context, OutputRequest(), outputs);
     const double seconds = secondsSince(message_start_);
     summary_.sweep_seconds.push_back(seconds);
     ++summary_.sweeps_processed;
     for (const core::ReflectiveObject& object : result.objects)
       ++summary_.objects_by_type[core::objectTypeName(object.type)];
-    out_.write(labelled_topic_, bag_time, *outputs.labelled);
-    out_.write(cleaned_topic_, bag_time, *outputs.cleaned);
-    out_.write(objects_topic_, bag_time, *outputs.objects);
-    out_.write(markers_topic_, bag_time, *outputs.markers);
+    out_.write(labelled_topic_, bag_time_, *outputs.labelled);
+    out_.write(cleaned_topic_, bag_time_, *outputs.cleaned);
+    out_.write(objects_topic_, bag_time_, *outputs.objects);
+    out_.write(markers_topic_, bag_time_, *outputs.markers);
     if (options_.verbose)
     {
-      log_ << "sweep " << summary_.sweeps_processed << " (stamp " << header.stamp << ", bag time " << bag_time
-           << "): " << formatMs(seconds) << ", " << result.objects.size() << " object(s)";
+      log_ << "sweep " << summary_.sweeps_processed << " (stamp " << toHeader(context).stamp << ", bag time "
+           << bag_time_ << "): " << formatMs(seconds) << ", " << result.objects.size() << " object(s)";
       for (const core::ReflectiveObject& object : result.objects)
         log_ << std::fixed << std::setprecision(1) << "; " << core::objectTypeName(object.type) << " "
              << object.width * 100.0f << " x " << object.height * 100.0f << " cm";
@@ -202,14 +245,23 @@ public:
     message_start_ = Clock::now();
   }
 
-  void sweepDropped(const std::string& reason, const ros::Time& bag_time) override
+  void inputProblem(const InputProblem& problem) override
   {
-    ++summary_.sweeps_dropped;
-    const std::size_t seen = ++summary_.drop_reasons[reason];
+    const std::string reason = problem.describe();
+    if (problem.dropped)
+    {
+      ++summary_.sweeps_dropped;
+      const std::size_t seen = ++summary_.drop_reasons[reason];
+      if (seen <= kReportedDropsPerReason || options_.verbose)
+        log_ << "prefilter_bag: dropping input at bag time " << bag_time_ << ": " << reason
+             << (seen == kReportedDropsPerReason && !options_.verbose ? " (more of these are only counted)" : "")
+             << "\n";
+      return;
+    }
+    const std::size_t seen = ++warnings_[reason];
     if (seen <= kReportedDropsPerReason || options_.verbose)
-      log_ << "prefilter_bag: dropping input at bag time " << bag_time << ": " << reason
-           << (seen == kReportedDropsPerReason && !options_.verbose ? " (more of these are only counted)" : "")
-           << "\n";
+      log_ << "prefilter_bag: warning at bag time " << bag_time_ << ": " << reason
+           << (seen == kReportedDropsPerReason && !options_.verbose ? " (more of these are not shown)" : "") << "\n";
   }
 
 private:
@@ -220,7 +272,38 @@ private:
   std::ostream& log_;
   std::string labelled_topic_, cleaned_topic_, objects_topic_, markers_topic_;
   Clock::time_point message_start_ = Clock::now();
+  ros::Time bag_time_;
+  std::map<std::string, std::size_t> warnings_;  // text -> count, to limit the lines
 };
+
+// Fills `tf` from a /tf or /tf_static message, as a tf listener does; a message or transform
+// tf refuses is reported as dropped.
+void addTransforms(const rosbag::MessageInstance& message, tf2::BufferCore& tf, SweepReceiver& receiver)
+{
+  tf2_msgs::TFMessage::ConstPtr transforms;
+  try
+  {
+    transforms = message.instantiate<tf2_msgs::TFMessage>();
+  }
+  catch (const std::exception& e)
+  {
+    receiver.inputProblem(
+        InputProblem{ true, "message", message.getTopic(), std::string("cannot be read: ") + e.what() });
+    return;
+  }
+  const bool is_static = message.getTopic() == kTfStaticTopic;
+  for (const geometry_msgs::TransformStamped& transform : transforms->transforms)
+  {
+    try
+    {
+      tf.setTransform(transform, "bag", is_static);  // logs and ignores a bad transform
+    }
+    catch (const std::exception& e)
+    {
+      receiver.inputProblem(InputProblem{ true, "transform", message.getTopic(), e.what() });
+    }
+  }
+}
 
 // "12/200 input messages, 6 sweeps, 2.9 sweeps/s": rewritten in place on a terminal, a
 // line every few seconds otherwise (a log file).
@@ -273,22 +356,9 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   const Clock::time_point start = Clock::now();
   BagToolSummary summary;
 
-  const BagInputMode* mode = findBagInputMode(options.input_mode);
+  const InputMode* mode = findInputMode(options.input_mode);
   if (mode == nullptr)
-  {
-    std::string allowed;
-    for (const BagInputMode& m : bagInputModes())
-      allowed += std::string(allowed.empty() ? "" : ", ") + "'" + m.name + "'";
-    throw BagToolError("input_mode '" + options.input_mode + "' is unknown: allowed values are " + allowed);
-  }
-  const std::unique_ptr<BagInput> input = mode->make(options.input);
-  const std::vector<BagInputTopic> input_topics = input->topics();
-  std::set<std::string> input_topic_names;
-  for (const BagInputTopic& topic : input_topics)
-    if (!input_topic_names.insert(topic.topic).second)
-      throw BagToolError("input mode " + options.input_mode + " reads " + topic.topic +
-                         " twice; its topics must differ");
-
+    throw BagToolError(unknownInputModeMessage(options.input_mode));
   std::error_code error;
   if (!fs::exists(options.input_path, error))
     throw BagToolError("input bag " + options.input_path + " does not exist");
@@ -304,13 +374,9 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   {
     throw BagToolError("cannot read " + options.input_path + " as a ROS bag: " + e.what());
   }
-  checkTopics(in, options.input_path, options.input_mode, input_topics);
-
-  std::vector<std::string> topic_list(input_topic_names.begin(), input_topic_names.end());
-  const std::size_t total_inputs = rosbag::View(in, rosbag::TopicQuery(topic_list)).size();
-
+  // Opened once the bag's topics are checked.
   PartialOutput output(options.output_path, log);
-  rosbag::Bag& out = output.open();
+  rosbag::Bag& out = output.bag();
   std::unique_ptr<Processor> processor;
   try
   {
@@ -320,6 +386,29 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   {
     throw BagToolError(std::string("bad parameters: ") + e.what());
   }
+  // The transforms of the bag, in bag order: the nodelet's tf listener, without a master.
+  tf2::BufferCore tf;  // default cache time, as the nodelet's tf2_ros::Buffer
+  const Processor& clock = *processor;
+  SweepInput input(*mode, options.input, tf, *processor, [&clock]() { return clock.bagTime().toSec(); });
+  const std::vector<WantedTopic> wanted = wantedTopics(input);
+  std::set<std::string> read_topics;
+  for (const WantedTopic& topic : wanted)
+    if (!read_topics.insert(topic.name).second)
+      throw BagToolError("input mode " + options.input_mode + " reads " + topic.name +
+                         " twice; its topics must differ");
+  std::string tf_user;
+  if (input.readsTf())
+    tf_user = options.input.sensor_frame.empty() ? "input mode " + options.input_mode :
+                                                   "sensor_frame '" + options.input.sensor_frame + "'";
+  checkTopics(in, options.input_path, options.input_mode, wanted, tf_user);
+  output.open();
+  std::map<std::string, const InputTopic*> input_topics;
+  for (const std::unique_ptr<InputTopic>& topic : input.topics())
+    input_topics[topic->name] = topic.get();
+
+  std::vector<std::string> topic_list(read_topics.begin(), read_topics.end());
+  const std::size_t total_inputs = rosbag::View(in, rosbag::TopicQuery(topic_list)).size();
+
   const std::vector<std::string> output_topics = processor->outputTopics();
   const std::set<std::string> output_topic_names(output_topics.begin(), output_topics.end());
   // A bag that already holds outputs (a processed bag processed again): the new ones replace them.
@@ -336,6 +425,7 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   std::unique_ptr<rosbag::View> view(options.only_outputs ? new rosbag::View(in, rosbag::TopicQuery(topic_list)) :
                                                             new rosbag::View(in));
   Progress progress(log, total_inputs);
+  std::vector<std::uint8_t> bytes;
   try
   {
     for (const rosbag::MessageInstance& message : *view)
@@ -351,16 +441,37 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
         out.write(topic, message.getTime(), message, message.getConnectionHeader());
         ++summary.copied_messages;
       }
-      if (input_topic_names.count(topic) > 0)
+      if (read_topics.count(topic) == 0)
+        continue;
+      ++summary.input_messages;
+      processor->startMessage(message.getTime());
+      const auto input_topic = input_topics.find(topic);
+      if (input_topic == input_topics.end())
+        addTransforms(message, tf, *processor);
+      else
       {
-        ++summary.input_messages;
-        processor->startMessage();
-        input->add(message, processor->sweep(), *processor);
-        progress.update(summary);
+        std::string problem;
+        try
+        {
+          bytes.resize(message.size());
+          ros::serialization::OStream stream(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+          message.write(stream);
+        }
+        catch (const std::exception& e)
+        {
+          problem = std::string("cannot be read: ") + e.what();
+        }
+        if (problem.empty())
+          input.addSerialized(*input_topic->second, bytes, message.getConnectionHeader());
+        else
+          processor->inputProblem(InputProblem{ true, "message", topic, problem });
       }
+      // What waited for transforms may go on now (the nodelet's timer does this).
+      input.poll();
+      progress.update(summary);
     }
     if (!summary.interrupted)
-      input->finish(*processor);
+      input.finish();
   }
   catch (const rosbag::BagException& e)
   {

@@ -56,6 +56,32 @@ void prepareOutputCloud(const std_msgs::Header& header, std::size_t points, sens
 }
 }  // namespace
 
+core::SweepContext toSweepContext(const std_msgs::Header& header)
+{
+  core::SweepContext context;
+  context.stamp_ns = header.stamp.toNSec();
+  context.frame_id = header.frame_id;
+  return context;
+}
+
+std_msgs::Header toHeader(const core::SweepContext& context)
+{
+  std_msgs::Header header;
+  header.stamp.fromNSec(context.stamp_ns);
+  header.frame_id = context.frame_id;
+  return header;
+}
+
+Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& transform)
+{
+  const geometry_msgs::Quaternion& q = transform.rotation;
+  const geometry_msgs::Vector3& t = transform.translation;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(t.x, t.y, t.z);
+  return pose;
+}
+
 std::string readEchoCloud(const sensor_msgs::PointCloud2& cloud, core::EchoCloud& echo, bool& has_intensity)
 {
   std::string layout = checkCloudLayout(cloud);

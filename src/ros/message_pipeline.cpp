@@ -6,22 +6,21 @@ namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
-core::SweepContext sensorFrameContext(const std_msgs::Header& header)
-{
-  core::SweepContext context;
-  context.stamp_ns = header.stamp.toNSec();
-  context.frame_id = header.frame_id;
-  return context;
-}
-
 MessagePipeline::MessagePipeline(const core::Params& params) : pipeline_(params)
 {
 }
 
-const core::PipelineResult& MessagePipeline::process(const std_msgs::Header& header, const core::SweepContext& context,
-                                                     const OutputRequest& request, OutputMessages& outputs)
+const core::PipelineResult& MessagePipeline::process(const core::SweepContext& context, const OutputRequest& request,
+                                                     OutputMessages& outputs)
 {
+  // The adapters measure ranges from the origin of the points' frame; a context that puts the
+  // scanner elsewhere (sensor_frame, the mean position of a rotating scanner) is where they are
+  // measured from.
+  const Eigen::Vector3f sensor_origin = context.sensorOrigin();
+  if (sensor_origin != Eigen::Vector3f::Zero())
+    sweep_.computeRanges(sensor_origin);
   const core::PipelineResult& result = pipeline_.process(sweep_, context);
+  const std_msgs::Header header = toHeader(context);
   outputs = OutputMessages();
   if (request.labelled)
   {

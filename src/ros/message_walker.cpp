@@ -1,7 +1,10 @@
 #include "ohm_mirror_detector3d/ros/message_walker.h"
 
 #include <cstring>
+#include <set>
 #include <sstream>
+
+#include "ohm_mirror_detector3d/ros/md5.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -32,7 +35,20 @@ struct Section
 {
   std::string name;
   std::vector<std::pair<int, std::string>> lines;  // (line number in the text, line)
+  std::vector<std::string> raw_lines;               // as given, for MessageSpec::text
 };
+
+// The section's lines without the blank ones that separate it from the next "MSG:" line.
+std::string sectionText(const std::vector<std::string>& raw_lines)
+{
+  std::size_t end = raw_lines.size();
+  while (end > 0 && trim(raw_lines[end - 1]).empty())
+    --end;
+  std::string text;
+  for (std::size_t i = 0; i < end; ++i)
+    text += (i > 0 ? "\n" : "") + raw_lines[i];
+  return text;
+}
 }  // namespace
 
 std::size_t builtinSize(const std::string& type)
@@ -85,6 +101,7 @@ std::string MessageDefinition::parse(const std::string& datatype, const std::str
       continue;
     }
     sections.back().lines.emplace_back(line_number, line);
+    sections.back().raw_lines.push_back(raw);
   }
   for (const Section& section : sections)
   {
@@ -92,6 +109,7 @@ std::string MessageDefinition::parse(const std::string& datatype, const std::str
       continue;  // the same type given twice: the first wins
     std::unique_ptr<MessageSpec> spec(new MessageSpec);
     spec->name = section.name;
+    spec->text = sectionText(section.raw_lines);
     specs_[section.name] = std::move(spec);
   }
 
@@ -99,7 +117,7 @@ std::string MessageDefinition::parse(const std::string& datatype, const std::str
   for (const Section& section : sections)
   {
     MessageSpec& spec = *specs_[section.name];
-    if (!spec.fields.empty())
+    if (!spec.fields.empty() || !spec.constants.empty())
       continue;
     for (const auto& numbered : section.lines)
     {
@@ -112,11 +130,19 @@ std::string MessageDefinition::parse(const std::string& datatype, const std::str
         continue;
       std::getline(words, rest);
       rest = trim(rest);
-      // A constant ("uint8 TYPE_MIRROR=1", "string NAME=a # b"): no bytes in the message.
+      // A constant ("uint8 TYPE_MIRROR=1", "string NAME=a # b"): no bytes in the message. A
+      // string's value is the rest of the line (a '#' too), others end at a comment (genmsg).
       const std::size_t equals = rest.find('=');
       const std::size_t hash = rest.find('#');
       if (equals != std::string::npos && (hash == std::string::npos || equals < hash))
+      {
+        const std::string value = type == "string" ? rest.substr(equals + 1) :
+                                                     rest.substr(equals + 1, hash == std::string::npos ?
+                                                                                 std::string::npos :
+                                                                                 hash - equals - 1);
+        spec.constants.push_back(ConstantSpec{ type, trim(rest.substr(0, equals)), trim(value) });
         continue;
+      }
       if (hash != std::string::npos)
         rest = trim(rest.substr(0, hash));
       if (rest.empty() || rest.find_first_of(" \t") != std::string::npos)
@@ -159,6 +185,60 @@ std::string MessageDefinition::parse(const std::string& datatype, const std::str
   }
   root_ = specs_[datatype].get();
   return "";
+}
+
+const MessageSpec* MessageDefinition::find(const std::string& full_name) const
+{
+  const auto found = specs_.find(full_name);
+  return found == specs_.end() ? nullptr : found->second.get();
+}
+
+namespace
+{
+std::string md5sumAt(const MessageSpec& spec, int depth)
+{
+  if (depth > kMaxDepth)
+    return "";
+  std::string text;
+  for (const ConstantSpec& constant : spec.constants)
+    text += constant.type + " " + constant.name + "=" + constant.value + "\n";
+  for (const FieldSpec& field : spec.fields)
+    text += (field.nested != nullptr ? md5sumAt(*field.nested, depth + 1) : field.typeName()) + " " + field.name + "\n";
+  if (!text.empty())
+    text.pop_back();
+  return md5Hex(text);
+}
+
+void collectNested(const MessageSpec& spec, std::vector<const MessageSpec*>& order, std::set<std::string>& seen,
+                   int depth)
+{
+  if (depth > kMaxDepth)
+    return;
+  for (const FieldSpec& field : spec.fields)
+  {
+    if (field.nested == nullptr || !seen.insert(field.nested->name).second)
+      continue;
+    order.push_back(field.nested);
+    collectNested(*field.nested, order, seen, depth + 1);
+  }
+}
+}  // namespace
+
+std::string md5sum(const MessageSpec& spec)
+{
+  return md5sumAt(spec, 0);
+}
+
+std::string fullDefinition(const MessageSpec& spec)
+{
+  std::vector<const MessageSpec*> nested;
+  std::set<std::string> seen{ spec.name };
+  collectNested(spec, nested, seen, 0);
+  std::string text = spec.text + "\n";
+  for (const MessageSpec* type : nested)
+    text += std::string(80, '=') + "\nMSG: " + type->name + "\n" + type->text + "\n";
+  text.pop_back();
+  return text;
 }
 
 namespace
@@ -275,6 +355,128 @@ private:
   std::map<std::string, FieldLocation>& locations_;
 };
 }  // namespace
+
+void FieldValues::set(const std::string& path, const std::string& type, const void* data, std::size_t count)
+{
+  values_[path] = Value{ type, data, count };
+}
+
+void FieldValues::setString(const std::string& path, const std::string& text)
+{
+  values_[path] = Value{ "string", &text, 1 };
+}
+
+void FieldValues::setCount(const std::string& path, std::size_t count)
+{
+  values_[path] = Value{ "", nullptr, count };
+}
+
+class MessageSerializer
+{
+public:
+  MessageSerializer(const FieldValues& values, std::vector<std::uint8_t>& bytes) : values_(values.values_), bytes_(bytes)
+  {
+  }
+
+  std::string write(const MessageSpec& spec, const std::string& prefix, int depth = 0)
+  {
+    if (depth > kMaxDepth)
+      return "'" + prefix + "' is nested deeper than " + std::to_string(kMaxDepth) +
+             " levels: is the definition recursive?";
+    for (const FieldSpec& field : spec.fields)
+    {
+      const std::string path = prefix + field.name;
+      const auto found = values_.find(path);
+      const FieldValues::Value* value = found == values_.end() ? nullptr : &found->second;
+      const std::string problem = field.nested != nullptr ? writeMessages(field, path, value, depth) :
+                                                            writeBuiltins(field, path, value);
+      if (!problem.empty())
+        return problem;
+    }
+    return "";
+  }
+
+private:
+  // The element count of `field`: its fixed size, else that of its value (none: 0), written
+  // as a length prefix.
+  std::string count(const FieldSpec& field, const std::string& path, const FieldValues::Value* value,
+                    std::size_t& elements)
+  {
+    if (!field.is_array)
+      elements = 1;
+    else if (field.array_size >= 0)
+      elements = static_cast<std::size_t>(field.array_size);
+    else
+    {
+      elements = value != nullptr ? value->count : 0;
+      if (elements > 0xffffffffu)
+        return "'" + path + "' has " + std::to_string(elements) + " elements, more than a ROS array holds";
+      putLength(elements);
+    }
+    if (value != nullptr && value->count != elements)
+      return "'" + path + "' is " + field.typeName() + " but was given " + std::to_string(value->count) +
+             " elements";
+    return "";
+  }
+
+  std::string writeMessages(const FieldSpec& field, const std::string& path, const FieldValues::Value* value,
+                            int depth)
+  {
+    if (value != nullptr && !value->type.empty())
+      return "'" + path + "' is " + field.typeName() + " but was given " + value->type + " values";
+    std::size_t elements = 0;
+    std::string problem = count(field, path, value, elements);
+    for (std::size_t k = 0; k < elements && problem.empty(); ++k)
+      problem = write(*field.nested, field.is_array ? path + "[" + std::to_string(k) + "]." : path + ".", depth + 1);
+    return problem;
+  }
+
+  std::string writeBuiltins(const FieldSpec& field, const std::string& path, const FieldValues::Value* value)
+  {
+    if (value != nullptr && value->type != field.type)
+      return "'" + path + "' is " + field.typeName() + " but was given " +
+             (value->type.empty() ? std::string("an element count") : value->type + " values");
+    std::size_t elements = 0;
+    const std::string problem = count(field, path, value, elements);
+    if (!problem.empty())
+      return problem;
+    if (field.type == "string")
+    {
+      for (std::size_t k = 0; k < elements; ++k)
+      {
+        const std::string* text = value != nullptr ? static_cast<const std::string*>(value->data) + k : nullptr;
+        putLength(text != nullptr ? text->size() : 0);
+        if (text != nullptr)
+          bytes_.insert(bytes_.end(), text->begin(), text->end());
+      }
+      return "";
+    }
+    const std::size_t size = elements * builtinSize(field.type);
+    const std::size_t at = bytes_.size();
+    bytes_.resize(at + size);
+    if (value != nullptr && size > 0)
+      std::memcpy(bytes_.data() + at, value->data, size);
+    return "";
+  }
+
+  void putLength(std::size_t length)
+  {
+    const auto value = static_cast<std::uint32_t>(length);
+    const std::size_t at = bytes_.size();
+    bytes_.resize(at + 4);
+    std::memcpy(bytes_.data() + at, &value, 4);  // ROS 1 serialization is little endian
+  }
+
+  const std::map<std::string, FieldValues::Value>& values_;
+  std::vector<std::uint8_t>& bytes_;
+};
+
+std::string serializeMessage(const MessageSpec& spec, const FieldValues& values, std::vector<std::uint8_t>& bytes)
+{
+  bytes.clear();
+  MessageSerializer serializer(values, bytes);
+  return serializer.write(spec, "");
+}
 
 std::string walkMessage(const MessageDefinition& definition, const std::uint8_t* data, std::size_t size,
                         std::map<std::string, FieldLocation>& locations)

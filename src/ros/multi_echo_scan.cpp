@@ -10,6 +10,8 @@
 #include <sstream>
 #include <utility>
 
+#include "ohm_mirror_detector3d/ros/conversions.h"
+
 namespace ohm_mirror_detector3d
 {
 namespace ros_io
@@ -25,14 +27,6 @@ constexpr double kWaitWarningSeconds = 1.0;
 constexpr double kUnknownFrameDropSeconds = 3.0;
 // Longest a single scan may take from its first to its last beam (a Hokuyo: 25 ms).
 constexpr double kMaxScanSeconds = 10.0;
-
-Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t)
-{
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
-  pose.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-  return pose;
-}
 
 std::string formatTime(const ros::Time& t)
 {
@@ -83,11 +77,6 @@ MultiEchoScanOptions readMultiEchoScanOptions(const ParamSource& source, std::ve
     }
   }
   return options;
-}
-
-MultiEchoScanOptions readMultiEchoScanOptions(const ros::NodeHandle& private_nh, std::vector<std::string>& errors)
-{
-  return readMultiEchoScanOptions(NodeHandleParamSource(private_nh), errors);
 }
 
 std::string checkMultiEchoScan(const sensor_msgs::MultiEchoLaserScan& scan)
@@ -141,23 +130,9 @@ std::string checkMultiEchoScan(const sensor_msgs::MultiEchoLaserScan& scan)
   return problem.str();
 }
 
-MultiEchoScanInput::MultiEchoScanInput(const MultiEchoScanOptions& options, const ros::NodeHandle& nh,
-                                       const std::string& name)
+MultiEchoScanInput::MultiEchoScanInput(const MultiEchoScanOptions& options, const std::string& name)
   : options_(options)
   , name_(name)
-  , assembler_(options.sweep_period > 0.0 ? options.sweep_period : core::SweepAssembler::kHalfRotation,
-               !(options.sweep_period > 0.0))
-{
-  own_buffer_ = std::make_unique<tf2_ros::Buffer>();
-  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*own_buffer_, nh, true);
-  tf_buffer_ = own_buffer_.get();
-}
-
-MultiEchoScanInput::MultiEchoScanInput(const MultiEchoScanOptions& options, const tf2::BufferCore& buffer,
-                                       const std::string& name)
-  : options_(options)
-  , name_(name)
-  , tf_buffer_(&buffer)
   , assembler_(options.sweep_period > 0.0 ? options.sweep_period : core::SweepAssembler::kHalfRotation,
                !(options.sweep_period > 0.0))
 {
@@ -211,7 +186,7 @@ void MultiEchoScanInput::reset()
   reset_requested_ = true;
 }
 
-void MultiEchoScanInput::drain(const SweepSink& sink)
+void MultiEchoScanInput::drain(const tf2::BufferCore& tf, const SweepSink& sink)
 {
   std::unique_lock<std::mutex> drain_lock(drain_mutex_, std::try_to_lock);
   if (!drain_lock.owns_lock())
@@ -232,10 +207,10 @@ void MultiEchoScanInput::drain(const SweepSink& sink)
     }
     const sensor_msgs::MultiEchoLaserScan& scan = *next.scan;
     std::string reason;
-    const Projection projection = project(scan, reason);
+    const Projection projection = project(tf, scan, reason);
     const double waited = (ros::WallTime::now() - next.received).toSec();
     if (projection == Projection::wait && waited > kUnknownFrameDropSeconds &&
-        !tf_buffer_->_frameExists(scan.header.frame_id))
+        !tf._frameExists(scan.header.frame_id))
     {
       {
         std::lock_guard<std::mutex> lock(pending_mutex_);
@@ -284,13 +259,12 @@ void MultiEchoScanInput::drain(const SweepSink& sink)
         break;
       case core::SweepAssembler::AddResult::sweep_complete:
       {
+        // The scanner turns through the sweep: its mean optical centre, sweep_frame's axes
+        // (SweepAssembler::takeSweep).
         core::SweepContext context;
-        context.frame_id = options_.sweep_frame;
         assembler_.takeSweep(sweep_, context);
-        std_msgs::Header header;
-        header.frame_id = context.frame_id;
-        header.stamp.fromNSec(context.stamp_ns);
-        sink(sweep_, header, context);
+        context.frame_id = options_.sweep_frame;
+        sink(sweep_, context);
         break;
       }
       case core::SweepAssembler::AddResult::added:
@@ -299,7 +273,8 @@ void MultiEchoScanInput::drain(const SweepSink& sink)
   }
 }
 
-MultiEchoScanInput::Projection MultiEchoScanInput::project(const sensor_msgs::MultiEchoLaserScan& scan,
+MultiEchoScanInput::Projection MultiEchoScanInput::project(const tf2::BufferCore& tf,
+                                                           const sensor_msgs::MultiEchoLaserScan& scan,
                                                            std::string& reason)
 {
   const std::string& target = options_.sweep_frame;
@@ -309,15 +284,15 @@ MultiEchoScanInput::Projection MultiEchoScanInput::project(const sensor_msgs::Mu
   const ros::Time end = start + ros::Duration(static_cast<double>(scan.time_increment) * static_cast<double>(n - 1));
 
   const auto covered = [&]() {
-    return tf_buffer_->canTransform(target, source, start, &reason) &&
-           tf_buffer_->canTransform(target, source, end, &reason);
+    return tf.canTransform(target, source, start, &reason) &&
+           tf.canTransform(target, source, end, &reason);
   };
   if (!covered())
   {
     // Will it still come? Only if the newest transform is older than the end of the scan.
     try
     {
-      const ros::Time latest = tf_buffer_->lookupTransform(target, source, ros::Time(0)).header.stamp;
+      const ros::Time latest = tf.lookupTransform(target, source, ros::Time(0)).header.stamp;
       if (latest.isZero() || latest < end)
         return Projection::wait;
     }
@@ -361,7 +336,7 @@ MultiEchoScanInput::Projection MultiEchoScanInput::project(const sensor_msgs::Mu
       const ros::Time t = start + ros::Duration(static_cast<double>(scan.time_increment) * static_cast<double>(i));
       if (i == 0 || t != pose_time)
       {
-        pose = toEigen(tf_buffer_->lookupTransform(target, source, t).transform);
+        pose = toIsometry(tf.lookupTransform(target, source, t).transform);
         rotation = pose.linear().cast<float>();
         translation = pose.translation().cast<float>();
         pose_time = t;

@@ -11,8 +11,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/ros/bag_processor.h"
-#include "ohm_mirror_detector3d/ros/dual_return.h"
-#include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
+#include "ohm_mirror_detector3d/ros/input_mode.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 #include "ohm_mirror_detector3d/ros/yaml_params.h"
 
@@ -42,20 +41,21 @@ void printHelp(std::ostream& out)
          "(ohm_mirror_detector3d/ReflectiveObjectArray) and PREFIX/markers (visualization_msgs/MarkerArray),\n"
          "stamped and framed like their input, at the bag time of their input message (in two_topics mode:\n"
          "of the later cloud of the pair; in multi_echo_scan mode: stamped and framed like the assembled\n"
-         "sweep, at the bag time of the scan or tf message that completed it). Every other message of\n"
+         "sweep, at the bag time of the scan or tf message that completed it; with sensor_frame: at the\n"
+         "bag time of the message after which tf had the scanner's pose). Every other message of\n"
          "IN.bag, the input topics included, is copied unchanged at its own bag time, unless\n"
          "--only-outputs. Messages already on the output topics in IN.bag are not copied: the new\n"
          "outputs replace them.\n"
          "\n"
          "Options:\n"
          "  --input-mode MODE    how sweeps are read (default pair):\n";
-  for (const ros_io::BagInputMode& mode : ros_io::bagInputModes())
+  for (const ros_io::InputMode& mode : ros_io::inputModes())
     out << "                         " << mode.name << ": " << mode.help << "\n";
   out << "  --input-topic T      the input topic of every mode but two_topics; by default what\n"
          "                       synthesize_sweep --bag writes:\n";
-  for (const ros_io::BagInputMode& mode : ros_io::bagInputModes())
-    if (mode.default_input_topic != nullptr)
-      out << "                         " << mode.name << ": " << mode.default_input_topic << "\n";
+  for (const ros_io::InputMode& mode : ros_io::inputModes())
+    if (mode.default_topic != nullptr)
+      out << "                         " << mode.name << ": " << mode.default_topic << "\n";
   out << "  --echo1-topic T      two_topics: the first echo (default /echo1)\n"
          "  --echo2-topic T      two_topics: the second echo (default /echo2)\n"
          "  --params FILE.yaml   pre-filter parameters, as for the nodelet: the original launch file's names\n"
@@ -65,7 +65,9 @@ void printHelp(std::ostream& out)
          "                       Also the modes' start-up parameters, as for the nodelet: dual_return:\n"
          "                       azimuth_resolution_deg (default 360/2048); multi_echo_scan: sweep_frame\n"
          "                       (required), sweep_period (default 0: per half rotation), rotation_axis\n"
-         "                       (default [0, 0, 1]). multi_echo_scan reads tf from /tf and /tf_static.\n"
+         "                       (default [0, 0, 1]); every mode but multi_echo_scan: sensor_frame (the\n"
+         "                       scanner's frame when the clouds come in another). multi_echo_scan and\n"
+         "                       sensor_frame take tf from the bag's /tf and /tf_static, in bag order.\n"
          "  --only-outputs       write only the four outputs, copy nothing else\n"
          "  --prefix NS          namespace of the outputs (default /prefilter)\n"
          "  -v, --verbose        a timing line per sweep, every dropped input\n"
@@ -177,27 +179,14 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     options.input_mode = given["--input-mode"];
   else if (!file_input_mode.empty())
     options.input_mode = file_input_mode;
-  const ros_io::BagInputMode* mode = ros_io::findBagInputMode(options.input_mode);
+  const ros_io::InputMode* mode = ros_io::findInputMode(options.input_mode);
   if (mode == nullptr)
-  {
-    std::string allowed;
-    for (const ros_io::BagInputMode& m : ros_io::bagInputModes())
-      allowed += std::string(allowed.empty() ? "" : ", ") + "'" + m.name + "'";
-    throw UsageError("input_mode '" + options.input_mode + "' is unknown: allowed values are " + allowed);
-  }
+    throw UsageError(ros_io::unknownInputModeMessage(options.input_mode));
   // The start-up parameters of the input modes, read as the nodelet reads them.
   const NoParams no_params;
   const ros_io::ParamSource& source = file ? static_cast<const ros_io::ParamSource&>(*file) : no_params;
-  options.input.azimuth_resolution_deg = ros_io::readAzimuthResolution(source, errors);
-  if (options.input_mode == "multi_echo_scan")
-    options.input.scan_options = ros_io::readMultiEchoScanOptions(source, errors);
-  // The nodelet takes the scanner's position from tf when sensor_frame is set; this tool
-  // does not (yet), and a sweep with the wrong origin gets wrong vision cones: refuse it
-  // rather than give results that differ from the nodelet's.
-  std::string sensor_frame;
-  if (source.has("sensor_frame") && (!source.get("sensor_frame", sensor_frame) || !sensor_frame.empty()))
-    errors.push_back("parameter " + source.describe("sensor_frame") +
-                     " is not supported by prefilter_bag: the clouds must be in the scanner's frame");
+  ros_io::readInputOptions(source, *mode, options.input, errors);
+  options.input.log_name = "prefilter_bag";
   if (!errors.empty())
     throw UsageError("refusing to start, bad parameters" + (file ? " in " + params_path : std::string()) + ":" +
                      joinLines(errors));
@@ -220,8 +209,9 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     options.input.echo2_topic = given["--echo2-topic"];
   // A topic option the chosen mode does not read is a mistake, not something to ignore.
   std::set<std::string> mode_options;
-  for (const ros_io::BagInputTopic& topic : mode->make(options.input)->topics())
-    mode_options.insert(topic.option);
+  const std::unique_ptr<ros_io::InputAdapter> adapter = mode->make(options.input);
+  for (const std::unique_ptr<ros_io::InputTopic>& topic : adapter->topics())
+    mode_options.insert(topic->option);
   for (const char* option : { "--input-topic", "--echo1-topic", "--echo2-topic" })
     if (given.count(option) > 0 && mode_options.count(option) == 0)
       throw UsageError(std::string(option) + " does not apply to input mode " + options.input_mode);

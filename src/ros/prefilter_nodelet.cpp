@@ -9,27 +9,14 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/ros/conversions.h"
-#include "ohm_mirror_detector3d/ros/dual_return.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
 {
 namespace
 {
-// Throttle period of the errors about bad input, so a broken driver cannot flood the log.
-constexpr double kErrorThrottleSeconds = 5.0;
-// How long a sweep waits for the transform of sensor_frame at its stamp.
-constexpr double kTfWaitSeconds = 0.2;
-// A sweep is large and a late one is worth less than the next: keep few.
-constexpr std::uint32_t kInputQueueSize = 2;
-
-// Scans are small and come at 40 Hz; keep 10 s of them while a sweep is processed.
-constexpr std::uint32_t kScanQueueSize = 400;
-// How often the scans that wait for their transforms are retried.
-constexpr double kScanRetrySeconds = 0.02;
-
-const char* const kInputModes[] = { "pair", "two_topics", "dual_return", "hokuyo3d_legacy",
-                                      "multi_echo_scan" };
+// How often what waits for tf (scans, sensor_frame sweeps) is tried again.
+constexpr double kTfPollSeconds = 0.02;
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -62,24 +49,20 @@ void PreFilterNodelet::onInit()
   const core::Params params = ros_io::readParams(pnh, errors);
   const std::vector<std::string> range_errors = params.validate();
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
-  pnh.param<std::string>("input_mode", input_mode_, kInputModes[0]);
-  if (std::find(std::begin(kInputModes), std::end(kInputModes), input_mode_) == std::end(kInputModes))
-  {
-    std::string allowed;
-    for (const char* mode : kInputModes)
-      allowed += std::string(allowed.empty() ? "'" : ", '") + mode + "'";
-    errors.push_back("input_mode '" + input_mode_ + "' is unknown: allowed values are " + allowed);
-  }
-  ros_io::MultiEchoScanOptions scan_options;
-  if (input_mode_ == "multi_echo_scan")
-    scan_options = ros_io::readMultiEchoScanOptions(pnh, errors);
-  azimuth_resolution_deg_ = ros_io::readAzimuthResolution(ros_io::NodeHandleParamSource(pnh), errors);
-  pnh.param<std::string>("sensor_frame", sensor_frame_, "");
-  if (!sensor_frame_.empty() && sensor_frame_[0] == '/')
-    sensor_frame_.erase(0, 1);
-  if (!sensor_frame_.empty() && input_mode_ == "multi_echo_scan")
-    errors.push_back("sensor_frame is not used in input_mode multi_echo_scan (the origin comes from the scans' "
-                     "frame in sweep_frame); remove it");
+  std::string input_mode;
+  pnh.param<std::string>("input_mode", input_mode, ros_io::inputModes().front().name);
+  const ros_io::InputMode* mode = ros_io::findInputMode(input_mode);
+  if (mode == nullptr)
+    errors.push_back(ros_io::unknownInputModeMessage(input_mode));
+  ros_io::InputOptions options;
+  input_topic_ = topicName(pnh, "input", { "sub_input_scan" });
+  options.input_topic = input_topic_;
+  options.echo1_topic = pnh.resolveName("echo1");
+  options.echo2_topic = pnh.resolveName("echo2");
+  // Its messages name the input topic too, as every other input problem does.
+  options.log_name = getName() + " (input " + input_topic_ + ")";
+  if (mode != nullptr)
+    ros_io::readInputOptions(ros_io::NodeHandleParamSource(pnh), *mode, options, errors);
   if (!errors.empty())
   {
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);
@@ -88,31 +71,26 @@ void PreFilterNodelet::onInit()
   }
   pipeline_.setParams(params);
   ros_io::writeParams(pnh, params);
-  if (!sensor_frame_.empty())
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  ros_io::SweepReceiver& receiver = *this;
+  input_ = std::make_unique<ros_io::SweepInput>(*mode, options, *tf_buffer_, receiver,
+                                                []() { return ros::WallTime::now().toSec(); });
+  if (input_->readsTf())
   {
     // Started here so that tf is buffered by the time the first sweep comes.
-    sensor_tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
-    sensor_tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*sensor_tf_buffer_);
-  }
-  input_topic_ = topicName(pnh, "input", { "sub_input_scan" });
-  if (input_mode_ == "multi_echo_scan")
-  {
-    // Its messages name the input topic too, as every other input problem does.
-    scan_input_ = std::make_unique<ros_io::MultiEchoScanInput>(scan_options, getNodeHandle(),
-                                                               getName() + " (input " + input_topic_ + ")");
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, getNodeHandle(), true);
   }
 
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
       [this](PreFilterConfig& config, std::uint32_t level) { onReconfigure(config, level); });
 
-  if (input_mode_ == "dual_return")
-    NODELET_INFO("dual_return: %zu azimuth bins of %.8g deg", core::azimuthBins(azimuth_resolution_deg_),
-                 360.0 / static_cast<double>(core::azimuthBins(azimuth_resolution_deg_)));
+  if (!input_->describe().empty())
+    NODELET_INFO_STREAM(input_->describe());
 
   advertiseOutputs();
   startDiagnostics();
-  NODELET_INFO("pre-filter ready: input_mode %s, publishing %s, %s, %s, %s", input_mode_.c_str(),
+  NODELET_INFO("pre-filter ready: input_mode %s, publishing %s, %s, %s, %s", mode->name,
                labelled_pub_.getTopic().c_str(), cleaned_pub_.getTopic().c_str(), objects_pub_.getTopic().c_str(),
                markers_pub_.getTopic().c_str());
 }
@@ -169,56 +147,21 @@ void PreFilterNodelet::updateSubscription()
 void PreFilterNodelet::subscribe()
 {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
-  if (input_mode_ == "pair")
-  {
-    pair_sub_ = pnh.subscribe<EchoPair>(input_topic_, kInputQueueSize,
-                                        [this](const EchoPair::ConstPtr& pair) { onEchoPair(pair); });
-  }
-  else if (input_mode_ == "dual_return")
-  {
-    dual_return_sub_ = pnh.subscribe<sensor_msgs::PointCloud2>(
-        input_topic_, kInputQueueSize,
-        [this](const sensor_msgs::PointCloud2::ConstPtr& cloud) { onDualReturnCloud(cloud); });
-  }
-  else if (input_mode_ == "hokuyo3d_legacy")
-  {
-    // ohm_hokuyo3d/CoordDistMulti, of a package we do not have: decoded from its definition.
-    legacy_sub_ = pnh.subscribe<topic_tools::ShapeShifter>(
-        input_topic_, kInputQueueSize,
-        [this](const topic_tools::ShapeShifter::ConstPtr& message) { onLegacyMessage(message); });
-  }
-  else if (input_mode_ == "multi_echo_scan")
-  {
-    scan_input_->reset();
-    scan_sub_ = pnh.subscribe<sensor_msgs::MultiEchoLaserScan>(
-        input_topic_, kScanQueueSize,
-        [this](const sensor_msgs::MultiEchoLaserScan::ConstPtr& scan) { onMultiEchoScan(scan); });
-    scan_drain_timer_ = pnh.createWallTimer(ros::WallDuration(kScanRetrySeconds),
-                                            [this](const ros::WallTimerEvent&) { onMultiEchoScan(nullptr); });
-  }
-  else
-  {
-    echo1_sub_.subscribe(pnh, "echo1", kInputQueueSize);
-    echo2_sub_.subscribe(pnh, "echo2", kInputQueueSize);
-    if (!echo_sync_)
-    {
-      echo_sync_ = std::make_unique<EchoSync>(echo1_sub_, echo2_sub_, kInputQueueSize * 2);
-      echo_sync_->registerCallback(&PreFilterNodelet::onEchoClouds, this);
-    }
-  }
+  input_->reset();
+  input_subscribers_ = input_->subscribe(pnh);
+  if (input_->readsTf())
+    poll_timer_ = pnh.createWallTimer(ros::WallDuration(kTfPollSeconds),
+                                      [this](const ros::WallTimerEvent&) { input_->poll(); });
   subscribed_ = true;
   NODELET_DEBUG("an output has subscribers: subscribed to the input");
 }
 
 void PreFilterNodelet::unsubscribe()
 {
-  pair_sub_.shutdown();
-  scan_sub_.shutdown();
-  scan_drain_timer_.stop();
-  echo1_sub_.unsubscribe();
-  echo2_sub_.unsubscribe();
-  dual_return_sub_.shutdown();
-  legacy_sub_.shutdown();
+  for (ros::Subscriber& subscriber : input_subscribers_)
+    subscriber.shutdown();
+  input_subscribers_.clear();
+  poll_timer_.stop();
   subscribed_ = false;
   NODELET_DEBUG("no output has subscribers: unsubscribed from the input");
 }
@@ -240,142 +183,38 @@ void PreFilterNodelet::onReconfigure(PreFilterConfig& config, std::uint32_t /*le
   active_config_ = config;
 }
 
-void PreFilterNodelet::onEchoPair(const EchoPair::ConstPtr& pair)
+void PreFilterNodelet::sweepReady(core::Sweep& sweep, const core::SweepContext& context)
 {
   std::lock_guard<std::mutex> lock(pipeline_mutex_);
-  const std::string problem = ros_io::echoPairToSweep(*pair, pipeline_.sweep());
-  if (!problem.empty())
-  {
-    reportInputProblem(true, "sweep", input_topic_, problem);
-    stats_.recordDropped(problem);
-    return;
-  }
-  processAndPublish(pair->header);
+  std::swap(pipeline_.sweep(), sweep);
+  processAndPublish(context);
 }
 
-void PreFilterNodelet::onEchoClouds(const sensor_msgs::PointCloud2::ConstPtr& echo1,
-                                    const sensor_msgs::PointCloud2::ConstPtr& echo2)
+void PreFilterNodelet::inputProblem(const ros_io::InputProblem& problem)
 {
-  std::lock_guard<std::mutex> lock(pipeline_mutex_);
-  const std::string problem = ros_io::echoCloudsToSweep(*echo1, *echo2, pipeline_.sweep());
-  if (!problem.empty())
-  {
-    reportInputProblem(true, "sweep", echo1_sub_.getTopic() + " + " + echo2_sub_.getTopic(), problem);
-    stats_.recordDropped(problem);
-    return;
-  }
-  processAndPublish(echo1->header);
+  reportInputProblem(problem);
+  if (problem.dropped)
+    stats_.recordDropped(problem.what == "sweep" ? problem.text : problem.what + ": " + problem.text);
 }
 
-void PreFilterNodelet::onMultiEchoScan(const sensor_msgs::MultiEchoLaserScan::ConstPtr& scan)
-{
-  if (scan)
-  {
-    const std::string problem = scan_input_->addScan(scan);
-    if (!problem.empty())
-    {
-      reportInputProblem(true, "scan", input_topic_, problem);
-      stats_.recordDropped("scan: " + problem);
-    }
-  }
-  scan_input_->drain([this](core::Sweep& sweep, const std_msgs::Header& header, const core::SweepContext& context) {
-    std::lock_guard<std::mutex> lock(pipeline_mutex_);
-    std::swap(pipeline_.sweep(), sweep);
-    processAndPublish(header, context);
-  });
-}
-
-void PreFilterNodelet::onDualReturnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud)
-{
-  std::lock_guard<std::mutex> lock(pipeline_mutex_);
-  core::DualReturnStats stats;
-  const std::string problem = ros_io::dualReturnCloudToSweep(*cloud, azimuth_resolution_deg_, dual_return_input_,
-                                                             pipeline_.sweep(), stats);
-  if (!problem.empty())
-  {
-    reportInputProblem(true, "sweep", input_topic_, problem);
-    stats_.recordDropped(problem);
-    return;
-  }
-  const std::string unbinned = ros_io::describeUnbinned(stats, azimuth_resolution_deg_);
-  if (!unbinned.empty())
-    reportInputProblem(false, "sweep", input_topic_, unbinned);
-  processAndPublish(cloud->header);
-}
-
-void PreFilterNodelet::onLegacyMessage(const topic_tools::ShapeShifter::ConstPtr& message)
-{
-  std::lock_guard<std::mutex> lock(pipeline_mutex_);
-  legacy_bytes_.resize(message->size());
-  ros::serialization::OStream stream(legacy_bytes_.data(), static_cast<std::uint32_t>(legacy_bytes_.size()));
-  message->write(stream);
-  std_msgs::Header header;
-  const std::string problem = legacy_decoder_.decode(message->getDataType(), message->getMessageDefinition(),
-                                                     legacy_bytes_.data(), legacy_bytes_.size(), pipeline_.sweep(),
-                                                     header);
-  if (!problem.empty())
-  {
-    reportInputProblem(true, "sweep", input_topic_ + " (" + message->getDataType() + ")", problem);
-    stats_.recordDropped(problem);
-    return;
-  }
-  processAndPublish(header);
-}
-
-bool PreFilterNodelet::placeSensor(const std_msgs::Header& header, core::SweepContext& context)
-{
-  if (sensor_frame_.empty() || sensor_frame_ == header.frame_id)
-    return true;
-  try
-  {
-    const geometry_msgs::Transform sensor =
-        sensor_tf_buffer_->lookupTransform(header.frame_id, sensor_frame_, header.stamp, ros::Duration(kTfWaitSeconds))
-            .transform;
-    context.sensor_pose = Eigen::Isometry3d::Identity();
-    context.sensor_pose.linear() =
-        Eigen::Quaterniond(sensor.rotation.w, sensor.rotation.x, sensor.rotation.y, sensor.rotation.z)
-            .normalized()
-            .toRotationMatrix();
-    context.sensor_pose.translation() = Eigen::Vector3d(sensor.translation.x, sensor.translation.y, sensor.translation.z);
-    pipeline_.sweep().computeRanges(context.sensorOrigin());
-    return true;
-  }
-  catch (const tf2::TransformException& error)
-  {
-    NODELET_ERROR_STREAM_THROTTLE(kErrorThrottleSeconds, "dropping sweep: no transform from sensor_frame '"
-                                                             << sensor_frame_ << "' to the cloud's frame '"
-                                                             << header.frame_id << "': " << error.what());
-    stats_.recordDropped(std::string("no transform from sensor_frame: ") + error.what());
-    return false;
-  }
-}
-
-void PreFilterNodelet::reportInputProblem(bool dropped, const std::string& what, const std::string& topic,
-                                          const std::string& problem)
+void PreFilterNodelet::reportInputProblem(const ros_io::InputProblem& problem)
 {
   std::size_t suppressed = 0;
   {
     std::lock_guard<std::mutex> lock(problem_mutex_);
-    if (!problem_throttle_.shouldReport(topic, problem, ros::WallTime::now().toSec(), suppressed))
+    if (!problem_throttle_.shouldReport(problem.topic, problem.text, ros::WallTime::now().toSec(), suppressed))
       return;
   }
   const std::string repeats =
       suppressed > 0 ? " (and " + std::to_string(suppressed) + " more like it since the last report)" : "";
-  if (dropped)
-    NODELET_ERROR_STREAM("dropping " << what << " on " << topic << ": " << problem << repeats);
+  if (problem.dropped)
+    NODELET_ERROR_STREAM("dropping " << problem.describe() << repeats);
   else
-    NODELET_WARN_STREAM(what << " on " << topic << ": " << problem << repeats);
+    NODELET_WARN_STREAM(problem.describe() << repeats);
 }
 
-void PreFilterNodelet::processAndPublish(const std_msgs::Header& header)
+void PreFilterNodelet::processAndPublish(const core::SweepContext& context)
 {
-  processAndPublish(header, ros_io::sensorFrameContext(header));
-}
-
-void PreFilterNodelet::processAndPublish(const std_msgs::Header& header, core::SweepContext context)
-{
-  if (!placeSensor(header, context))
-    return;
   ros_io::OutputRequest request;
   request.labelled = labelled_pub_.getNumSubscribers() > 0;
   request.cleaned = cleaned_pub_.getNumSubscribers() > 0;
@@ -383,7 +222,7 @@ void PreFilterNodelet::processAndPublish(const std_msgs::Header& header, core::S
   request.markers = markers_pub_.getNumSubscribers() > 0;
   ros_io::OutputMessages outputs;
   const auto start = ros_io::ProcessingStats::Clock::now();
-  const core::PipelineResult& result = pipeline_.process(header, context, request, outputs);
+  const core::PipelineResult& result = pipeline_.process(context, request, outputs);
   const double seconds = std::chrono::duration<double>(ros_io::ProcessingStats::Clock::now() - start).count();
   stats_.recordProcessed(seconds, result.objects.size(), pipeline_.sweep().beamCount() * 2);
   if (outputs.labelled)
@@ -394,7 +233,7 @@ void PreFilterNodelet::processAndPublish(const std_msgs::Header& header, core::S
   {
     // For make bench (bench/nodelet_latency.py): the core's time and the age of the input
     // stamp when `cleaned` was published, both in seconds.
-    const double age = (ros::Time::now() - header.stamp).toSec();
+    const double age = (ros::Time::now() - ros_io::toHeader(context).stamp).toSec();
     std_msgs::Float64MultiArray timing;
     timing.layout.dim.resize(1);
     timing.layout.dim[0].label = "core_s,stamp_to_cleaned_published_s";

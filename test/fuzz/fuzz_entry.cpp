@@ -121,12 +121,11 @@ std::size_t inputPoints(const core::Sweep& sweep)
   return sweep.input_cells.empty() ? 2 * sweep.beamCount() : sweep.input_cells.size();
 }
 
-void runPipeline(ros_io::MessagePipeline& pipeline, const std_msgs::Header& header, const core::SweepContext& context,
-                 FuzzOutcome& outcome)
+void runPipeline(ros_io::MessagePipeline& pipeline, const core::SweepContext& context, FuzzOutcome& outcome)
 {
   const std::size_t input_points = inputPoints(pipeline.sweep());
   ros_io::OutputMessages outputs;
-  const core::PipelineResult& result = pipeline.process(header, context, ros_io::OutputRequest(), outputs);
+  const core::PipelineResult& result = pipeline.process(context, ros_io::OutputRequest(), outputs);
   checkOutputs(pipeline.sweep(), input_points, outputs, result);
   ++outcome.sweeps;
 }
@@ -145,11 +144,10 @@ void runMultiEchoScans(const std::uint8_t* data, std::size_t size, ros_io::Messa
   options.sweep_frame = "map";
   options.sweep_period = 0.05;
   options.max_pending_scans = 8;
-  ros_io::MultiEchoScanInput input(options, buffer, "fuzz");
-  const ros_io::MultiEchoScanInput::SweepSink sink = [&](core::Sweep& sweep, const std_msgs::Header& header,
-                                                          const core::SweepContext& context) {
+  ros_io::MultiEchoScanInput input(options, "fuzz");
+  const ros_io::MultiEchoScanInput::SweepSink sink = [&](core::Sweep& sweep, const core::SweepContext& context) {
     std::swap(pipeline.sweep(), sweep);
-    runPipeline(pipeline, header, context, outcome);
+    runPipeline(pipeline, context, outcome);
   };
   std::size_t offset = 0;
   while (offset + 4 <= size)
@@ -170,7 +168,7 @@ void runMultiEchoScans(const std::uint8_t* data, std::size_t size, ros_io::Messa
       outcome.converted = true;
     else
       outcome.problem = problem;
-    input.drain(sink);
+    input.drain(buffer, sink);
   }
 }
 }  // namespace
@@ -243,7 +241,7 @@ FuzzOutcome runFuzzInput(const std::uint8_t* data, std::size_t size)
   if (!problem.empty())
     return outcome;
   outcome.converted = true;
-  runPipeline(pipeline, header, ros_io::sensorFrameContext(header), outcome);
+  runPipeline(pipeline, ros_io::toSweepContext(header), outcome);
   return outcome;
 }
 

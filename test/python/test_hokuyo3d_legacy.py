@@ -1,5 +1,7 @@
 """The simulator's ohm_hokuyo3d/CoordDistMulti writer (input mode hokuyo3d_legacy)."""
 import io
+import os
+import sys
 
 import numpy as np
 import pytest
@@ -30,3 +32,16 @@ def test_message_round_trips_through_a_class_generated_from_its_definition(ros_m
         np.testing.assert_array_equal(coords[mask], points[mask].astype(np.float32))
         assert np.all(coords[~mask] == 0.0)  # empty beams: zeros, the mask says so
         assert len(coord.intensity) == len(coord.objectType) == len(coord_dist.dist.dists) == sweep.num_beams
+
+
+def test_definition_is_that_of_the_reconstructed_msg_files(ros_messages):
+    """The simulator's driver, the nodelet's built-in output type (checked in legacy_output.test)
+    and test/legacy_msgs describe the same types: same md5sums, as genmsg computes them."""
+    genpy_dynamic = pytest.importorskip('genpy.dynamic')
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'legacy_msgs'))
+    import legacy_msgs
+    from ohm_mirror_detector3d.hokuyo3d_legacy import LEGACY_TYPE, legacy_definition
+    classes = genpy_dynamic.generate_dynamic(LEGACY_TYPE, legacy_definition())
+    for name in legacy_msgs.TYPES:
+        full_name = legacy_msgs.PACKAGE + '/' + name
+        assert classes[full_name]._md5sum == legacy_msgs.md5sum(full_name), full_name

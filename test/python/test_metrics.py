@@ -12,13 +12,13 @@ V, RS, BR, NAN = Label.VALID, Label.REFLECTIVE_SURFACE, Label.BEHIND_REFLECTIVE,
 def hand_made_ground_truth():
     """Three beams: 0 a single valid return, 1 mirror surface + phantom, 2 no return."""
     nan = [np.nan] * 3
-    rows = [  # measured, true, label, object, echo, beam
-        ([1, 0, 0], [1, 0, 0], V, -1, 1, 0), ([2, 0, 0], [2, 0, 0], RS, 0, 1, 1), (nan, nan, NAN, -1, 1, 2),
-        ([1, 0, 0], [1, 0, 0], V, -1, 2, 0), ([5, 0, 0], [-1, 0, 0], BR, 0, 2, 1), (nan, nan, NAN, -1, 2, 2),
+    rows = [  # measured, true, label, object, echo, beam, double echo
+        ([1, 0, 0], [1, 0, 0], V, -1, 1, 0, 0), ([2, 0, 0], [2, 0, 0], RS, 0, 1, 1, 1), (nan, nan, NAN, -1, 1, 2, 0),
+        ([1, 0, 0], [1, 0, 0], V, -1, 2, 0, 0), ([5, 0, 0], [-1, 0, 0], BR, 0, 2, 1, 1), (nan, nan, NAN, -1, 2, 2, 0),
     ]
     gt = np.zeros(len(rows), GROUND_TRUTH_DTYPE)
-    for i, (m, t, lab, obj, echo, beam) in enumerate(rows):
-        gt[i] = (*m, *t, lab, obj, echo, beam)
+    for i, (m, t, lab, obj, echo, beam, double) in enumerate(rows):
+        gt[i] = (*m, *t, lab, obj, echo, beam, double)
     return gt
 
 
@@ -91,6 +91,61 @@ def test_confusion_maps_filter_labels_to_classes():
     assert full[RS, Label.ERROR_SURFACE] == 1 and full[BR, Label.ERROR] == 1 and full[NAN, NAN] == 1
     coarse = np.array(r['confusion_coarse']['matrix'])
     assert np.trace(coarse) == 4
+
+
+def test_iou_among_double_echo_points_and_among_all():
+    gt = hand_made_ground_truth()
+    # The filter finds the mirror's surface echo and its phantom, and takes beam 0's valid return
+    # for a surface point too.
+    labelled = cloud([(1, 0, 0, Label.ERROR_SURFACE, 1, 0), (2, 0, 0, Label.ERROR_SURFACE, 1, 1),
+                      (np.nan,) * 3 + (NAN, 1, 2), (1, 0, 0, Label.ERROR_SURFACE, 2, 0), (5, 0, 0, BR, 2, 1),
+                      (np.nan,) * 3 + (NAN, 2, 2)])
+    r = metrics.evaluate_sweep(gt, labelled)
+    assert r['iou']['surface'] == {'double_echo': 1.0, 'all': 0.5}
+    assert r['iou']['phantom'] == {'double_echo': 1.0, 'all': 1.0}
+    assert r['iou']['behind_glass'] == {'double_echo': None, 'all': None}   # none on either side
+    # The phantom taken for a valid point: no phantom IoU at all; pooled over two sweeps: 1 / 2.
+    missed = cloud([(1, 0, 0, V, 1, 0), (2, 0, 0, RS, 1, 1), (5, 0, 0, V, 2, 1)])
+    r2 = metrics.evaluate_sweep(gt, missed)
+    assert r2['iou']['phantom']['double_echo'] == 0.0
+    summary = metrics.aggregate_results([r, r2])
+    assert summary['iou']['phantom']['double_echo'] == 0.5
+    assert summary['iou_counts']['surface']['all'] == [2, 3]
+
+
+def test_double_echo_phantoms_left_at_a_wrong_place():
+    gt = hand_made_ground_truth()
+    out = metrics.passthrough_filter_output(gt)
+    r = metrics.evaluate_sweep(gt, out['labelled'], out['cleaned'])
+    assert r['counts']['double_echo_phantoms'] == 1 and r['double_echo_phantom_wrong_place_fraction'] == 1.0
+    # The same phantom as a single echo (its beam without the surface echo) is no double-echo phantom.
+    single = gt[[0, 1, 2, 3, 4, 5]].copy()
+    single[1] = single[4]
+    single[1]['echo'], single[1]['beam'] = 1, 1
+    single[4] = single[1]
+    single[4]['echo'] = 2
+    single['double_echo'] = 0
+    out = metrics.passthrough_filter_output(single)
+    r = metrics.evaluate_sweep(single, out['labelled'], out['cleaned'])
+    assert r['counts']['phantoms'] == 1 and r['counts']['double_echo_phantoms'] == 0
+    assert r['phantom_wrong_place_fraction'] == 1.0 and r['double_echo_phantom_wrong_place_fraction'] is None
+
+
+def test_type_accuracy_counts_objects_with_enough_surface_echoes_and_false_objects_scenes_without_any():
+    truth = [dict(MIRROR, surface_points=80), dict(MIRROR, id=1, surface_points=10,
+                                                   corners=np.asarray(MIRROR['corners']) + [0, 2, 0])]
+    glass_guess = dict(MIRROR, type=2)
+    with_objects = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[glass_guess], ground_truth_objects=truth)
+    right = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[MIRROR], ground_truth_objects=truth)
+    assert with_objects['objects'][0]['truth_surface_points'] == 80
+    # Only the first object has >= 50 surface echoes: typed glass once (wrong), mirror once (right).
+    assert metrics.type_accuracy([with_objects, right], 50) == {'objects': 2, 'right': 1, 'fraction': 0.5}
+    assert metrics.type_accuracy([with_objects], 5)['objects'] == 2
+    plain_clean = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[], ground_truth_objects=[])
+    plain_false = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[MIRROR, glass_guess],
+                                         ground_truth_objects=[])
+    scored = metrics.false_object_scenes([with_objects, plain_clean, plain_false])
+    assert scored == {'scenes': 2, 'with_false_objects': 1, 'fraction': 0.5, 'false_objects': 2}
 
 
 def test_object_sizes_and_corner_errors():

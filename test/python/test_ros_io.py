@@ -33,6 +33,17 @@ def test_structured_array_round_trip(ros_messages):
         ros_messages.cloud_to_array(msg, ['nope'])
 
 
+def test_ground_truth_recorded_before_the_double_echo_field_gets_it(ros_messages, small_sweep):
+    gt = small_sweep.ground_truth
+    assert gt['double_echo'].any() and not gt['double_echo'].all()
+    names = [n for n in gt.dtype.names if n != 'double_echo']
+    old = np.zeros(len(gt), [(n, gt.dtype[n]) for n in names])
+    for n in names:
+        old[n] = gt[n]
+    msg = ros_messages.array_to_cloud(old, ros_messages.make_header(1.0, 'laser'))
+    same(ros_messages.ground_truth_from_cloud(msg), gt)
+
+
 def test_sweep_messages_round_trip(ros_messages, small_sweep):
     msgs = ros_messages.sweep_to_messages(small_sweep, 42.0, 'laser')
     pair = msgs['echo_pair']

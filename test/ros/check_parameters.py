@@ -3,6 +3,7 @@
 with a message naming them, paper names are accepted, and a refused reconfigure leaves
 the previous configuration in force."""
 import os
+import re
 import subprocess
 import sys
 import unittest
@@ -55,6 +56,28 @@ class StartUpParameters(unittest.TestCase):
 
     def test_refuses_an_unknown_input_mode(self):
         self.assert_refused('unknown_mode', ['_input_mode:=carrier_pigeon'], "input_mode 'carrier_pigeon' is unknown")
+
+    def test_the_node_and_prefilter_bag_know_the_same_input_modes(self):
+        """Both take their modes from one table (ros/input_mode.h): the node's refusal and prefilter_bag's
+        refusal and --help list the same modes in the same order."""
+        node = start_node('unknown_mode_list', '_input_mode:=carrier_pigeon')
+        node_output, _ = node.communicate(timeout=30)
+        bag = subprocess.run(['rosrun', 'ohm_mirror_detector3d', 'prefilter_bag', 'in.bag', 'out.bag',
+                              '--input-mode', 'carrier_pigeon'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             text=True, timeout=30)
+        self.assertEqual(bag.returncode, 2, bag.stdout)
+        allowed = re.compile(r"input_mode 'carrier_pigeon' is unknown: allowed values are ((?:'\w+'(?:, )?)+)")
+        node_modes = allowed.search(node_output)
+        bag_modes = allowed.search(bag.stdout)
+        self.assertIsNotNone(node_modes, node_output)
+        self.assertIsNotNone(bag_modes, bag.stdout)
+        modes = re.findall(r"'(\w+)'", node_modes.group(1))
+        self.assertEqual(modes, re.findall(r"'(\w+)'", bag_modes.group(1)))
+        self.assertEqual(modes, ['pair', 'two_topics', 'dual_return', 'hokuyo3d_legacy', 'multi_echo_scan'])
+        help_text = subprocess.run(['rosrun', 'ohm_mirror_detector3d', 'prefilter_bag', '--help'],
+                                   stdout=subprocess.PIPE, text=True, timeout=30).stdout
+        listed = help_text.split('--input-mode MODE')[1].split('\n  --input-topic T')[0]
+        self.assertEqual(re.findall(r'^ {25}(\w+): ', listed, re.M), modes)
 
     def test_refuses_a_zero_azimuth_resolution_naming_it_and_the_allowed_range(self):
         self.assert_refused('zero_azimuth', ['_input_mode:=dual_return', '_azimuth_resolution_deg:=0.0'],

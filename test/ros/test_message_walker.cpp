@@ -1,5 +1,5 @@
-// The run-time message reader (definition parser + byte walker) and the hokuyo3d_legacy
-// decoder on hand-made definitions and bytes.
+// The run-time message reader and writer (definition parser, byte walker, serializer, md5)
+// and the hokuyo3d_legacy decoder on hand-made definitions and bytes.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
+#include "ohm_mirror_detector3d/ros/md5.h"
 #include "ohm_mirror_detector3d/ros/message_walker.h"
 
 namespace ohm_mirror_detector3d
@@ -264,6 +265,125 @@ TEST(Hokuyo3dLegacy, ClearErrorsNameWhatIsMissingOrWrong)
                   .find("ends inside 'coorddist[1].dist.mask'"),
               std::string::npos);
   }
+}
+
+TEST(MessageWalker, KeepsConstantsAsGenmsgReadsThem)
+{
+  ros_io::MessageDefinition definition;
+  ASSERT_EQ(definition.parse("test_pkg/Consts", "int8 LOW = -1   # spaced\n"
+                                                "string WORDS= a # not a comment \n"
+                                                "uint8 x\n"),
+            "");
+  const std::vector<ros_io::ConstantSpec>& constants = definition.root().constants;
+  ASSERT_EQ(constants.size(), 2u);
+  EXPECT_EQ(constants[0].type, "int8");
+  EXPECT_EQ(constants[0].name, "LOW");
+  EXPECT_EQ(constants[0].value, "-1");
+  EXPECT_EQ(constants[1].name, "WORDS");
+  EXPECT_EQ(constants[1].value, "a # not a comment");
+  // genmsg's md5 text: constants first, then the fields.
+  EXPECT_EQ(ros_io::md5sum(definition.root()), ros_io::md5Hex("int8 LOW=-1\nstring WORDS=a # not a comment\nuint8 x"));
+}
+
+TEST(MessageWalker, Md5IsRfc1321s)
+{
+  EXPECT_EQ(ros_io::md5Hex(""), "d41d8cd98f00b204e9800998ecf8427e");
+  EXPECT_EQ(ros_io::md5Hex("abc"), "900150983cd24fb0d6963f7d28e17f72");
+  EXPECT_EQ(ros_io::md5Hex("message digest"), "f96b697d7cb7938d525a2f31aaf161d0");
+  // Lengths around the padding limits (55, 56, 64 bytes) and over several blocks.
+  EXPECT_EQ(ros_io::md5Hex(std::string(55, 'z')), "b687791f373f9a09b6f18a1d845aecbf");
+  EXPECT_EQ(ros_io::md5Hex(std::string(56, 'x')), "668a72d5ba17f08e62dabcafad6db14b");
+  EXPECT_EQ(ros_io::md5Hex(std::string(64, 'y')), "b0c4864f4e28d2d76929c38d87db7ed5");
+  EXPECT_EQ(ros_io::md5Hex("12345678901234567890123456789012345678901234567890123456789012345678901234567890"),
+            "57edf4a22be3c955ac49da2e2107b67a");
+}
+
+TEST(MessageWalker, SerializesValuesByPathAndEmptyFieldsOtherwise)
+{
+  const std::string text = std::string(
+                               "Header header\n"
+                               "uint8 KIND=3\n"
+                               "float32[] values\n"
+                               "int16[2] pair\n"
+                               "string[] names\n"
+                               "Part[] parts\n"
+                               "Part[2] fixed_parts\n"
+                               "bool flag\n"
+                               "================================================================================\n"
+                               "MSG: test_pkg/Part\n"
+                               "int64 id\n"
+                               "string label\n") +
+                           kHeaderSection;
+  ros_io::MessageDefinition definition;
+  ASSERT_EQ(definition.parse("test_pkg/Thing", text), "");
+
+  const std::uint32_t seq = 4;
+  const std::uint32_t stamp[2] = { 100, 200 };
+  const std::string frame = "laser";
+  const std::vector<float> values = { 1.5f, -2.0f };
+  const std::string names[2] = { "a", "bc" };
+  const std::int64_t id = 77;
+  const std::string label = "second";
+  const std::uint8_t flag = 1;
+  ros_io::FieldValues fields;
+  fields.set("header.seq", "uint32", &seq, 1);
+  fields.set("header.stamp", "time", stamp, 1);
+  fields.setString("header.frame_id", frame);
+  fields.set("values", "float32", values.data(), values.size());
+  fields.set("names", "string", names, 2);
+  fields.setCount("parts", 2);
+  fields.set("parts[1].id", "int64", &id, 1);
+  fields.setString("parts[1].label", label);
+  fields.set("flag", "bool", &flag, 1);
+  fields.set("not_a_field", "float32", values.data(), values.size());
+  std::vector<std::uint8_t> bytes;
+  ASSERT_EQ(ros_io::serializeMessage(definition.root(), fields, bytes), "");
+
+  // Byte for byte what a hand serialization of the same values gives.
+  Bytes expected;
+  expected.header(4, 100, 200, "laser").array<float>(values).put<std::int16_t>(0).put<std::int16_t>(0);
+  expected.put<std::uint32_t>(2).string("a").string("bc");
+  expected.put<std::uint32_t>(2).put<std::int64_t>(0).string("").put<std::int64_t>(77).string("second");
+  expected.put<std::int64_t>(0).string("").put<std::int64_t>(0).string("");
+  expected.put<std::uint8_t>(1);
+  EXPECT_EQ(bytes, expected.data);
+
+  std::map<std::string, FieldLocation> at;
+  ASSERT_EQ(ros_io::walkMessage(definition, bytes.data(), bytes.size(), at), "");
+  EXPECT_EQ(at.at("fixed_parts[1].label").count, 0u);
+
+  // Nothing given: every field empty.
+  ASSERT_EQ(ros_io::serializeMessage(definition.root(), ros_io::FieldValues(), bytes), "");
+  ASSERT_EQ(ros_io::walkMessage(definition, bytes.data(), bytes.size(), at), "");
+  EXPECT_EQ(at.at("values").count, 0u);
+  EXPECT_EQ(at.at("parts").count, 0u);
+  EXPECT_EQ(at.at("fixed_parts").count, 2u);
+}
+
+TEST(MessageWalker, SerializerNamesValuesThatDoNotFitTheirField)
+{
+  ros_io::MessageDefinition definition;
+  ASSERT_EQ(definition.parse("test_pkg/Small", "float32[] values\nint16[2] pair\nPart part\n"
+                                               "================================================================================\n"
+                                               "MSG: test_pkg/Part\nint64 id\n"),
+            "");
+  const double wide[2] = { 1.0, 2.0 };
+  const std::int16_t three[3] = { 1, 2, 3 };
+  std::vector<std::uint8_t> bytes;
+  ros_io::FieldValues fields;
+  fields.set("values", "float64", wide, 2);
+  EXPECT_EQ(ros_io::serializeMessage(definition.root(), fields, bytes),
+            "'values' is float32[] but was given float64 values");
+  fields.clear();
+  fields.set("pair", "int16", three, 3);
+  EXPECT_EQ(ros_io::serializeMessage(definition.root(), fields, bytes), "'pair' is int16[2] but was given 3 elements");
+  fields.clear();
+  fields.set("part", "int64", wide, 1);
+  EXPECT_EQ(ros_io::serializeMessage(definition.root(), fields, bytes),
+            "'part' is test_pkg/Part but was given int64 values");
+  fields.clear();
+  fields.setCount("part.id", 1);
+  EXPECT_EQ(ros_io::serializeMessage(definition.root(), fields, bytes), "'part.id' is int64 but was given an element count");
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
-// prefilter_bag's processing loop: the nodelet's pipeline (MessagePipeline) over every
-// input sweep of a bag, without a master. src/ros/prefilter_bag.cpp is its command line.
+// prefilter_bag's processing loop: the nodelet's input path (SweepInput: the input mode's
+// adapter, the wait for sensor_frame's transform) and pipeline (MessagePipeline) over every
+// message of a bag, in bag order, without a master; tf comes from the bag's /tf and /tf_static.
+// src/ros/prefilter_bag.cpp is its command line.
 #pragma once
 
 #include <csignal>
@@ -11,7 +13,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/params.h"
-#include "ohm_mirror_detector3d/ros/bag_input.h"
+#include "ohm_mirror_detector3d/ros/input_mode.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -21,8 +23,8 @@ struct BagToolOptions
 {
   std::string input_path;
   std::string output_path;
-  std::string input_mode = "pair";  // a name of bagInputModes()
-  BagInputOptions input;
+  std::string input_mode = "pair";  // a name of inputModes()
+  InputOptions input;
   core::Params params;
   std::string prefix = "/prefilter";  // outputs: prefix + /labelled, /cleaned, /objects, /markers
   bool only_outputs = false;          // else every other message of the input is copied too
@@ -33,7 +35,7 @@ struct BagToolOptions
 
 struct BagToolSummary
 {
-  std::size_t input_messages = 0;   // messages read on the mode's topics
+  std::size_t input_messages = 0;   // messages read on the mode's topics (and /tf, /tf_static when used)
   std::size_t copied_messages = 0;  // messages copied through unchanged
   std::size_t sweeps_processed = 0;
   std::size_t sweeps_dropped = 0;

@@ -1,9 +1,11 @@
 // Conversions between ROS messages and the core's plain types.
 #pragma once
 
+#include <geometry_msgs/Transform.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
 
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -14,11 +16,21 @@
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
 
 namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
+// The context of a sweep taken at `header`'s stamp in its frame, the scanner at the frame's
+// origin (no rotation); an input with another scanner pose sets sensor_pose afterwards.
+core::SweepContext toSweepContext(const std_msgs::Header& header);
+// The header of the outputs of a sweep: its stamp and frame.
+std_msgs::Header toHeader(const core::SweepContext& context);
+
+// A tf transform as an isometry (the rotation normalised).
+Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& transform);
+
 // Reads the x, y, z (float32) and optional numeric `intensity` fields of every point of
 // `cloud` into `echo`, in row-major order. Returns an empty string on success, otherwise
 // what is wrong with the cloud (missing or mistyped field, inconsistent sizes, ...);

@@ -1,4 +1,4 @@
-// The pre-filter on ROS messages: an input adapter fills sweep(), process() runs the core
+// The pre-filter on ROS messages: an input adapter fills sweep() (input_mode.h), process() runs the core
 // pipeline and builds the output messages. The nodelet and prefilter_bag both use it, so
 // they run exactly the same code.
 #pragma once
@@ -33,10 +33,6 @@ struct OutputMessages
   visualization_msgs::MarkerArrayPtr markers;
 };
 
-// The context of a sweep whose points are in the scanner's frame: the header's stamp and
-// frame, the sensor at the frame's origin.
-core::SweepContext sensorFrameContext(const std_msgs::Header& header);
-
 class MessagePipeline
 {
 public:
@@ -49,10 +45,11 @@ public:
   // The sweep the input adapters fill; reused from message to message.
   core::Sweep& sweep() { return sweep_; }
 
-  // Runs the pipeline on sweep() with its context (core::Pipeline::process) and builds the
-  // requested outputs, stamped and framed with `header`. The result is valid until the next call.
-  const core::PipelineResult& process(const std_msgs::Header& header, const core::SweepContext& context,
-                                      const OutputRequest& request, OutputMessages& outputs);
+  // Runs the pipeline on sweep() with what `context` says about it (the vision cones start at
+  // the scanner's position) and builds the requested outputs, stamped and framed as the context
+  // says. The result is valid until the next call.
+  const core::PipelineResult& process(const core::SweepContext& context, const OutputRequest& request,
+                                      OutputMessages& outputs);
 
 private:
   core::Pipeline pipeline_;

@@ -3,24 +3,20 @@
 // sweep_frame and assembled into sweeps (core/sweep_assembler.h) for the pipeline.
 #pragma once
 
-#include <ros/node_handle.h>
 #include <ros/time.h>
 #include <sensor_msgs/MultiEchoLaserScan.h>
-#include <std_msgs/Header.h>
 #include <tf2/buffer_core.h>
-#include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
 #include <Eigen/Core>
 #include <cstddef>
 #include <deque>
 #include <functional>
-#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/sweep_assembler.h"
+#include "ohm_mirror_detector3d/core/sweep_context.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
@@ -35,11 +31,10 @@ struct MultiEchoScanOptions
   std::size_t max_pending_scans = 400;  // scans waiting for their transforms (10 s at 40 Hz)
 };
 
-// Reads `sweep_frame`, `sweep_period` and `rotation_axis` (the nodelet: from its private
-// node handle; prefilter_bag: from its --params file); appends a message naming the
-// parameter and its allowed values for every bad one.
+// Reads `sweep_frame`, `sweep_period` and `rotation_axis` (readInputOptions: the nodelet's
+// private parameters, prefilter_bag's --params file); appends a message naming the parameter
+// and its allowed values for every bad one.
 MultiEchoScanOptions readMultiEchoScanOptions(const ParamSource& source, std::vector<std::string>& errors);
-MultiEchoScanOptions readMultiEchoScanOptions(const ros::NodeHandle& private_nh, std::vector<std::string>& errors);
 
 // What is wrong with a scan ("" when it can be used): no beams, ranges and intensities of
 // different lengths (per scan or per beam), angles or times that are not finite, beams that
@@ -52,27 +47,26 @@ std::string checkMultiEchoScan(const sensor_msgs::MultiEchoLaserScan& scan);
 class MultiEchoScanInput
 {
 public:
-  // Receives each completed sweep, framed sweep_frame and stamped with its last scan's stamp;
-  // the sink may swap the sweep's buffers with its own (std::swap), which saves a copy.
-  using SweepSink =
-      std::function<void(core::Sweep& sweep, const std_msgs::Header& header, const core::SweepContext& context)>;
+  // Receives each completed sweep and its context: framed sweep_frame, stamped with its last
+  // scan's stamp, the sensor pose the mean optical centre over its scans (the sweep's origin)
+  // with sweep_frame's axes (the scanner turns through the sweep). The sink may swap the
+  // sweep's buffers with its own (std::swap), which saves a copy.
+  using SweepSink = std::function<void(core::Sweep& sweep, const core::SweepContext& context)>;
 
-  // Listens to tf (/tf, /tf_static) on `nh` in a thread of its own, so transforms keep
-  // arriving while the pipeline runs (the nodelet). `name` prefixes the log messages.
-  MultiEchoScanInput(const MultiEchoScanOptions& options, const ros::NodeHandle& nh, const std::string& name);
-  // Looks transforms up in `buffer`, which the caller fills and keeps alive (prefilter_bag
-  // fills it from the bag's /tf and /tf_static, in bag order, and calls drain() after each).
-  MultiEchoScanInput(const MultiEchoScanOptions& options, const tf2::BufferCore& buffer, const std::string& name);
+  // `name` prefixes the log messages.
+  MultiEchoScanInput(const MultiEchoScanOptions& options, const std::string& name);
   ~MultiEchoScanInput();
 
   // Checks a scan and queues it; returns the problem ("" when queued). A full queue drops
   // its oldest scan with a throttled warning.
   std::string addScan(const sensor_msgs::MultiEchoLaserScan::ConstPtr& scan);
 
-  // Projects every queued scan whose transforms are available, in order, and calls `sink`
-  // for each completed sweep. Scans whose transforms will never come (older than the tf
-  // buffer, or a gap in tf) are dropped with a throttled error.
-  void drain(const SweepSink& sink);
+  // Projects every queued scan whose transforms are in `tf`, in order, and calls `sink` for
+  // each completed sweep. Scans whose transforms will never come (older than the tf buffer, or
+  // a gap in tf) are dropped with a throttled error. The caller fills `tf`: the nodelet's tf
+  // listener, or prefilter_bag from the bag's /tf and /tf_static in bag order (calling drain()
+  // after each message).
+  void drain(const tf2::BufferCore& tf, const SweepSink& sink);
 
   // Forgets the queued scans and the partial sweep (on (re)subscription).
   void reset();
@@ -94,14 +88,11 @@ private:
     ros::WallTime received;
   };
 
-  Projection project(const sensor_msgs::MultiEchoLaserScan& scan, std::string& reason);
+  Projection project(const tf2::BufferCore& tf, const sensor_msgs::MultiEchoLaserScan& scan, std::string& reason);
   std::string frames(const sensor_msgs::MultiEchoLaserScan& scan) const;
 
   MultiEchoScanOptions options_;
   std::string name_;
-  std::unique_ptr<tf2_ros::Buffer> own_buffer_;  // with a node handle: filled by tf_listener_
-  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  const tf2::BufferCore* tf_buffer_ = nullptr;  // own_buffer_ or the caller's
 
   std::mutex pending_mutex_;  // guards pending_, last_stamp_, reset_requested_
   std::deque<Pending> pending_;
