@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "ohm_mirror_detector3d/ros/conversions.h"
+#include "ohm_mirror_detector3d/ros/tf_availability.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -289,18 +290,9 @@ MultiEchoScanInput::Projection MultiEchoScanInput::project(const tf2::BufferCore
   };
   if (!covered())
   {
-    // Will it still come? Only if the newest transform is older than the end of the scan.
-    try
-    {
-      const ros::Time latest = tf.lookupTransform(target, source, ros::Time(0)).header.stamp;
-      if (latest.isZero() || latest < end)
-        return Projection::wait;
-    }
-    catch (const tf2::TransformException& e)
-    {
-      reason = e.what();
+    // Will they still come? Only while tf has nothing newer than the end of the scan.
+    if (transformMayStillCome(tf, target, source, end, reason))
       return Projection::wait;
-    }
     // The listener fills the buffer on its own thread: the transforms for the end of the scan may have
     // arrived between the check above and the lookup of the newest one. Only a second miss, with the
     // newest transform already past the scan, means they never will (the scan fell into a gap).

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "ohm_mirror_detector3d/ros/conversions.h"
+#include "ohm_mirror_detector3d/ros/tf_availability.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -64,18 +65,8 @@ SensorPoseQueue::Lookup SensorPoseQueue::lookUp(core::SweepContext& context, std
   };
   if (found())
     return Lookup::found;
-  // Will it still come? Only while the newest transform between the frames is older than the stamp.
-  try
-  {
-    const ros::Time latest = tf_.lookupTransform(frame, sensor_frame_, ros::Time(0)).header.stamp;
-    if (latest.isZero() || latest < stamp)
-      return Lookup::wait;
-  }
-  catch (const tf2::TransformException& e)
-  {
-    reason = e.what();
+  if (transformMayStillCome(tf_, frame, sensor_frame_, stamp, reason))
     return Lookup::wait;
-  }
   // A tf listener fills the buffer on its own thread: the transform may have come between the
   // first try and the look at the newest one. Only a second miss means it never will.
   return found() ? Lookup::found : Lookup::never;
