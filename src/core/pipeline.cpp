@@ -53,6 +53,7 @@ Pipeline::Stages::Stages(const StageConfigs& configs)
   , object_extractor(configs.object_extraction)
   , type_analyzer(configs.object_type)
   , cone_labelling(configs.cone_labelling)
+  , min_object_points(static_cast<std::size_t>(configs.object_extraction.min_object_points))
 {
 }
 
@@ -96,7 +97,7 @@ void Pipeline::detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, 
   r.times.outlier_filter = clock.lap();
   r.error_surface_points = s.echo_comparison.apply(sweep, r.labels);
   r.times.echo_comparison = clock.lap();
-  if (r.error_surface_points < static_cast<std::size_t>(params_.min_object_points))
+  if (r.error_surface_points < s.min_object_points)
     return;
   r.outlier_points += s.outlier_filter.apply(sweep, Label::errorSurface, r.labels);
   r.times.outlier_filter += clock.lap();

@@ -93,6 +93,9 @@ private:
     ObjectExtractor object_extractor;
     ObjectTypeAnalyzer type_analyzer;
     ConeLabelling cone_labelling;
+    // The object extraction's n_object: with fewer errorSurface points detect stops after the
+    // echo comparison, since they cannot make an object.
+    std::size_t min_object_points;
   };
 
   // Times consecutive stages (pipeline.cpp).
