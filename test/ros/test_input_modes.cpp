@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/EchoPair.h"
+#include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/input_mode.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
@@ -167,6 +168,19 @@ TEST(InputModes, OneTableNamesEveryModeWithTheTopicsAndTypesItReads)
   EXPECT_EQ(ros_io::findInputMode("hokuyo3d_legacy")->make(options)->topics()[0]->md5sum, "*");
   EXPECT_TRUE(ros_io::findInputMode("multi_echo_scan")->make(options)->readsTf());
   EXPECT_FALSE(ros_io::findInputMode("pair")->make(options)->readsTf());
+}
+
+// The input_mode row of the parameter table (which the README's table is made from) names the
+// modes in words: they must be the input-mode table's, and its default the table's first mode.
+TEST(InputModes, TheInputModeParameterNamesTheTablesModesAndItsDefaultIsTheFirst)
+{
+  std::string names;
+  for (const ros_io::InputMode& mode : ros_io::inputModes())
+    names += std::string(names.empty() ? "" : ", ") + "`" + mode.name + "`";
+  const core::ParamInfo* row = core::findParameter("input_mode");
+  ASSERT_NE(row, nullptr);
+  EXPECT_EQ(std::string(row->allowed), names);
+  EXPECT_STREQ(row->default_value.text, ros_io::inputModes().front().name);
 }
 
 TEST(InputModes, ARecordedEchoPairBecomesASweepWithTheStampAndFrameOfItsHeader)
