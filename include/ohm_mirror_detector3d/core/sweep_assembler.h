@@ -99,8 +99,9 @@ struct ProjectedScan
   void reset(std::size_t beams);
 };
 
-// Collects projected scans into sweeps. add() returns true when the scan starts a new sweep;
-// the completed one is then waiting for takeSweep(). Scans are rows in arrival order.
+// Collects projected scans into sweeps. add() says when the scan starts a new sweep
+// (AddResult::sweep_complete); the completed one then waits for takeSweep(). Scans are rows in
+// arrival order.
 class SweepAssembler
 {
 public:

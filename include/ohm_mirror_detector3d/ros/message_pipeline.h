@@ -1,6 +1,6 @@
-// The pre-filter on ROS messages: an input adapter fills sweep() (input_mode.h), process() runs the core
-// pipeline and builds the output messages. The nodelet and prefilter_bag both use it, so
-// they run exactly the same code.
+// The pre-filter on ROS messages: the receiver of the input path (sweep_input.h) swaps each
+// sweep an input adapter made into sweep(), process() runs the core pipeline and builds the
+// output messages. The nodelet and prefilter_bag both use it, so they run exactly the same code.
 #pragma once
 
 #include <sensor_msgs/PointCloud2.h>
@@ -42,7 +42,8 @@ public:
   // Same check; on failure the previous parameters stay in force.
   void setParams(const core::Params& params) { pipeline_.setParams(params); }
 
-  // The sweep the input adapters fill; reused from message to message.
+  // The sweep process() runs on: the front end swaps each converted sweep into it (or fills it);
+  // reused from message to message.
   core::Sweep& sweep() { return sweep_; }
 
   // Runs the pipeline on sweep() with what `context` says about it (the vision cones start at
