@@ -4,7 +4,9 @@
 // feeds them the recorded messages (InputTopic::addSerialized); both then get the same sweeps,
 // contexts and problems from the same adapter code.
 //
-// Adding a mode: an InputAdapter subclass in src/ros/input_modes.cpp and a row in inputModes().
+// Adding a mode: an InputAdapter subclass in src/ros/input_modes.cpp and a row in inputModes()
+// (its name also among the allowed values of the input_mode row of core/parameters.def, which
+// test_input_modes compares with this table).
 #pragma once
 
 #include <ros/message_traits.h>
