@@ -36,6 +36,31 @@ T readAt(const std::uint8_t* data, std::size_t offset)
 }
 }  // namespace
 
+const char* const kLegacyScanDatatype = "ohm_hokuyo3d/CoordDistMulti";
+
+std::string legacyLayoutProblem(const std::string& datatype, const std::string& definition)
+{
+  MessageDefinition parsed;
+  const std::string problem = parsed.parse(datatype, definition);
+  if (!problem.empty())
+    return problem;
+  for (const FieldSpec& echoes : parsed.root().fields)
+  {
+    if (echoes.name != kEchoArray)
+      continue;
+    if (!echoes.is_array || echoes.nested == nullptr)
+      break;
+    for (const FieldSpec& coord : echoes.nested->fields)
+      if (coord.name == "coord" && !coord.is_array && coord.nested != nullptr)
+        for (const FieldSpec& coords : coord.nested->fields)
+          if (coords.name == "coords" && coords.typeName() == "float32[]")
+            return "";
+    return "message definition of " + datatype + " has no field '" + kEchoArray + "[].coord.coords' of type float32[]";
+  }
+  return "message definition of " + datatype + " has no field '" + kEchoArray + "' that is an array of CoordDist "
+         "messages";
+}
+
 std::string Hokuyo3dLegacyDecoder::parseDefinition(const std::string& datatype, const std::string& definition)
 {
   std::string problem = definition_.parse(datatype, definition);

@@ -24,6 +24,9 @@ public:
   void recordProcessed(double seconds, std::size_t objects, std::size_t points);
   // A sweep (or a scan of one) was refused: `problem` is what the throttled error said.
   void recordDropped(const std::string& problem);
+  // Nothing can arrive from a publisher on an input topic (another message type): reported as
+  // an error while no input comes, until the next check finds none ("").
+  void recordPublisherProblem(const std::string& problem);
 
   // Summarises the interval since the previous call into `status` and starts a new one.
   // `subscribed`: whether the lazy input subscription is active (no input is then normal).
@@ -45,6 +48,7 @@ private:
   std::size_t last_objects_ = 0;
   std::size_t last_points_ = 0;
   std::string last_problem_;
+  std::string publisher_problem_;
 };
 
 }  // namespace ros_io
