@@ -113,6 +113,18 @@ std::string Hokuyo3dLegacyDecoder::decode(const std::string& datatype, const std
                    readAt<std::uint32_t>(data, seq->second.offset) :
                    0;
   header.frame_id.assign(reinterpret_cast<const char*>(data) + frame->second.offset, frame->second.count);
+  // The echoes of a beam must be measured in one frame, or comparing their ranges and the
+  // back-projection mix two frames (an empty frame_id says nothing).
+  const std::string second_frame_path = std::string(kEchoArray) + "[1].coord.header.frame_id";
+  const auto second_frame = locations_.find(second_frame_path);
+  if (echoes == 2 && second_frame != locations_.end() && second_frame->second.field->type == "string")
+  {
+    const std::string frame_id(reinterpret_cast<const char*>(data) + second_frame->second.offset,
+                               second_frame->second.count);
+    if (!frame_id.empty() && !header.frame_id.empty() && frame_id != header.frame_id)
+      return "'" + second_frame_path + "' is '" + frame_id + "' but '" + header_path + ".frame_id' is '" +
+             header.frame_id + "'; both echoes must be in one frame";
+  }
 
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::size_t beams = 0;

@@ -184,6 +184,28 @@ TEST(LegacyOutput, ScanRoundTripsThroughTheHokuyo3dLegacyDecoder)
             (std::vector<std::uint32_t>{ 1 }));
 }
 
+TEST(LegacyOutput, TheDecoderRefusesEchoesInDifferentFramesNamingBoth)
+{
+  ros_io::LegacyScanWriter writer;
+  const topic_tools::ShapeShifter::Ptr message = writer.write(header("laser"), threeBeamSweep());
+  std::vector<std::uint8_t> bytes = bytesOf(*message);
+  ros_io::MessageDefinition definition;
+  ASSERT_EQ(definition.parse(message->getDataType(), message->getMessageDefinition()), "");
+  std::map<std::string, FieldLocation> at;
+  ASSERT_EQ(ros_io::walkMessage(definition, bytes.data(), bytes.size(), at), "");
+  const FieldLocation& second_frame = at.at("coorddist[1].coord.header.frame_id");
+  ASSERT_EQ(second_frame.count, 5u);
+  bytes[second_frame.offset + 4] = 'R';  // "laseR": another frame of the same length
+
+  ros_io::Hokuyo3dLegacyDecoder decoder;
+  core::Sweep decoded;
+  std_msgs::Header decoded_header;
+  EXPECT_EQ(decoder.decode(message->getDataType(), message->getMessageDefinition(), bytes.data(), bytes.size(),
+                           decoded, decoded_header),
+            "'coorddist[1].coord.header.frame_id' is 'laseR' but 'coorddist[0].coord.header.frame_id' is 'laser'; "
+            "both echoes must be in one frame");
+}
+
 TEST(LegacyOutput, ScanMasksOutPointsLabelledNanPoint)
 {
   ros_io::LegacyScanWriter writer;
