@@ -22,6 +22,19 @@ enum class ObjectType : std::uint8_t
 
 const char* objectTypeName(ObjectType type);
 
+// How far from the surface the sensor saw in its direction a point reflected across an object's
+// plane (q) may lie and still lie on it [m]: base + per metre of q's range (noise, sampling) +
+// per metre the point lies behind the plane (the plane's angular uncertainty: an error of the
+// plane's tilt moves q by twice the tilt times the distance behind).
+struct LandingTolerance
+{
+  float base = 0.1f;
+  float per_range = 0.005f;
+  float per_behind = 0.0f;
+
+  float at(float range, float behind) const { return base + per_range * range + per_behind * behind; }
+};
+
 // Why the type decision came out as it did (see analyzeObjectType).
 struct TypeEvidence
 {
