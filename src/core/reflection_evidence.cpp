@@ -27,6 +27,10 @@ constexpr float kWindowSteps = 1.25f;
 // sample of about this many beams per axis.
 constexpr std::size_t kNeighbourSearch = 8;
 constexpr std::size_t kStepSamplesPerAxis = 64;
+// A sweep without columns (one row: an unorganised cloud) has its neighbouring scan line
+// somewhere further along the row: the nearest return among this many beams beyond the row
+// neighbours is taken for it (a scan line of up to 4096 beams).
+constexpr std::size_t kMaxLineLag = 4096;
 // Steps outside this range are no sweep's sampling (a repeated return, a jump across the grid).
 constexpr float kMinStep = 1e-5f;
 constexpr float kMaxStep = 10.0f * static_cast<float>(M_PI) / 180.0f;
@@ -137,7 +141,8 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   auto usable = [&](std::size_t i) { return labels.echoes[0][i] != Label::nanPoint && first[i].allFinite(); };
 
   // The sweep's angular steps: along a row (the next return within a few columns) and along a
-  // column (the next within a few rows), medians over a sample of beams.
+  // column (the next within a few rows; in a sweep of one row, the nearest return beyond the
+  // row neighbours), medians over a sample of beams.
   row_angles_.clear();
   column_angles_.clear();
   const std::size_t row_stride = std::max<std::size_t>(1, sweep.rows / kStepSamplesPerAxis);
@@ -161,6 +166,27 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
           column_angles_.push_back(angleBetween(from, first[i + k * sweep.cols] - origin_));
           break;
         }
+    }
+  if (column_angles_.empty())
+    for (std::size_t c = 0; c < sweep.cols; c += column_stride)
+    {
+      if (!usable(c))
+        continue;
+      // The largest cosine, as cos^2 of the returns in the same half space (no square root per return).
+      const Eigen::Vector3f from = (first[c] - origin_).normalized();
+      float best_squared_cosine = -1.0f;
+      const std::size_t end = std::min(sweep.cols, c + kNeighbourSearch + kMaxLineLag);
+      for (std::size_t j = c + kNeighbourSearch + 1; j < end; ++j)
+      {
+        if (!usable(j))
+          continue;
+        const Eigen::Vector3f x = first[j] - origin_;
+        const float along = from.dot(x);
+        if (along > 0.0f)
+          best_squared_cosine = std::max(best_squared_cosine, along * along / x.squaredNorm());
+      }
+      if (best_squared_cosine > 0.0f)
+        column_angles_.push_back(std::acos(std::min(1.0f, std::sqrt(best_squared_cosine))));
     }
   auto implausible = [](float a) { return !(a >= kMinStep && a <= kMaxStep); };
   row_angles_.erase(std::remove_if(row_angles_.begin(), row_angles_.end(), implausible), row_angles_.end());

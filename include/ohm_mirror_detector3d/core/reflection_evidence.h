@@ -50,7 +50,9 @@ public:
   // Indexes every return of the sweep that is not nanPoint (a repeated single return once)
   // by its direction from sensor_origin. The angular step is the sweep's own: the median angle
   // between neighbouring returns along its rows and along its columns (the coarser of the
-  // two). A sweep with no neighbouring returns gets no index (every test says noReturn).
+  // two; a sweep of one row, an unorganised cloud, takes the nearest return beyond a beam's row
+  // neighbours for its column). A sweep with no neighbouring returns gets no index (every test
+  // says noReturn).
   void build(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin);
 
   // The coarser angular step of the sweep [rad], 0 when there is no index.
