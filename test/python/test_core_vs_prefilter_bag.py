@@ -23,8 +23,10 @@ DUAL_RETURN_PARAMS = os.path.join(REPO, 'launch', 'dual_return_params.yaml')
 # pixels) until the filter work of issue 14: with the realistic physics today's filter also reports a
 # false glass object in experiment 1 (README, "Pinned tests").
 IDEAL = PhysicsParams.ideal()
-OBJECT_FIELDS = ('id', 'type', 'width', 'height', 'surface_points', 'behind_points', 'mirrored_points',
-                 'matched_points', 'inlier_fraction', 'icp_fitness', 'icp_converged', 'mean_surface_intensity')
+OBJECT_FIELDS = ('id', 'type', 'width', 'height', 'surface_points', 'behind_points', 'phantom_points',
+                 'transmitted_points', 'ambiguous_points', 'undecided_points', 'mirrored_points', 'tested_points',
+                 'inlier_fraction', 'transmitted_fraction', 'landing_fitness', 'plane_refined', 'plane_correction',
+                 'mean_surface_intensity')
 
 
 @pytest.fixture(scope='module')
