@@ -17,7 +17,7 @@
 // The type decision. What it asks of each point behind the object is ReflectionEvidence's test;
 // what it adds is speed and the plane:
 // - the points tested are a deterministic sample of at most kMaxSamples points (evenly spread
-//   over the points behind in beam order): the type follows from shares, and a thousand points
+//   over the points behind in beam order): the type follows from shares, and 512 points
 //   estimate them to a few percent (the cone labelling then tests every point);
 // - when enough of them land on seen geometry, the plane is refined from them first
 //   (mirror_plane_refinement.h) against the real scene where they land (RealScene: only the
@@ -32,7 +32,7 @@ namespace core
 namespace
 {
 // At most this many of the points behind an object are tested (see the top of the file).
-constexpr std::size_t kMaxSamples = 1024;
+constexpr std::size_t kMaxSamples = 512;
 // The real scene is thinned to one point per voxel of icp_max_distance / kVoxelsPerDistance,
 // at most kMaxVoxel wide: the 1 cm noise of the scanner stays the largest error.
 constexpr float kVoxelsPerDistance = 5.0f;

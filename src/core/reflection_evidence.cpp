@@ -405,34 +405,37 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
   // q lies on a surface. If that surface is perpendicular to the plane, the reflection maps it
   // onto itself: a real point on it behind the plane (the floor seen through glass) would land
   // here as well as a phantom of it (the floor seen in a mirror). Its normal comes from the
-  // returns around q on it (a plane fit), else from the corners' fit; without either its
+  // corners' fit (the plane through the returns around q's direction), else from the returns
+  // around q on it (their covariance; slower, so only without a fit); without either its
   // orientation is unknown and so is the answer.
   Eigen::Vector3f surface_normal = Eigen::Vector3f::Zero();
+  if (fitted)
+    surface_normal =
+        (static_cast<float>(fit[0]) * along + static_cast<float>(fit[1]) * e1 + static_cast<float>(fit[2]) * e2)
+            .normalized();
+  else
   {
+    auto onSurface = [&](const Candidate& c) {
+      return std::fabs(c.range - seen) <= tol + kMaxGrazingSlope * seen * std::sqrt(c.a * c.a + c.b * c.b);
+    };
     Eigen::Vector3f mean = Eigen::Vector3f::Zero();
     std::size_t on_surface = 0;
     for (std::size_t k = 0; k < count; ++k)
-    {
-      const Candidate& c = candidates[k];
-      if (std::fabs(c.range - seen) <= tol + kMaxGrazingSlope * seen * std::sqrt(c.a * c.a + c.b * c.b))
+      if (onSurface(candidates[k]))
       {
-        mean += c.point;
+        mean += candidates[k].point;
         ++on_surface;
       }
-    }
     if (on_surface >= kMinSurfaceCandidates)
     {
       mean /= static_cast<float>(on_surface);
       Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();
       for (std::size_t k = 0; k < count; ++k)
-      {
-        const Candidate& c = candidates[k];
-        if (std::fabs(c.range - seen) <= tol + kMaxGrazingSlope * seen * std::sqrt(c.a * c.a + c.b * c.b))
+        if (onSurface(candidates[k]))
         {
-          const Eigen::Vector3f d = c.point - mean;
+          const Eigen::Vector3f d = candidates[k].point - mean;
           covariance += d * d.transpose();
         }
-      }
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
       solver.computeDirect(covariance);
       const Eigen::Vector3f spread_values = solver.eigenvalues();
@@ -440,10 +443,6 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
           spread_values[0] <= kMaxSurfaceThickness * spread_values[1])
         surface_normal = solver.eigenvectors().col(0);
     }
-    if (surface_normal.isZero() && fitted)
-      surface_normal = (static_cast<float>(fit[0]) * along + static_cast<float>(fit[1]) * e1 +
-                        static_cast<float>(fit[2]) * e2)
-                           .normalized();
   }
   // Exactly: a real point on that surface behind the plane lands within tol when twice its
   // distance behind times |n_surface . n| is below tol; the normal's own uncertainty widens it.

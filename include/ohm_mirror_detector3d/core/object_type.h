@@ -35,7 +35,7 @@ public:
 
   // Decides the object's type from what its points behind say (ReflectionEvidence): the points
   // behind it (inside its vision cone from sensor_origin, both echoes, nanPoint excluded), an
-  // even sample of at most 1024 of them, each reflected across the plane and tested against
+  // even sample of at most 512 of them, each reflected across the plane and tested against
   // what the sensor saw in front (tolerance icp_max_distance, growing with range and the
   // plane's uncertainty). Sets object.landing_tolerance, object.type and object.evidence:
   // - when at least icp_min_points of them (estimated) land on seen geometry, the plane is

@@ -36,7 +36,7 @@ struct LandingTolerance
 };
 
 // Why the type decision came out as it did (object_type.h): what the points behind the object
-// said, on an even sample of at most 1024 of them, the counts scaled to all of them.
+// said, on an even sample of at most 512 of them, the counts scaled to all of them.
 struct TypeEvidence
 {
   std::size_t mirrored_points = 0;     // points behind the plane (inside its vision cone), reflected across it
