@@ -191,7 +191,7 @@ class FilterResult:
     objects: one dict per mirror/glass/unknown rectangle (id, type, type_name, corners (4, 3),
       width, height, plane (a, b, c, d), centre, the counts surface_points, behind_points,
       phantom_points, transmitted_points, ambiguous_points, undecided_points, the type's evidence
-      mirrored_points, tested_points, inlier_fraction, transmitted_fraction, landing_fitness,
+      mirrored_points, tested_points, inlier_fraction, real_fraction, landing_fitness,
       plane_refined, plane_correction, and mean_surface_intensity).
     stats: point counts of the stages and the core's wall time.
     """

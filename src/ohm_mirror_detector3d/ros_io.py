@@ -119,7 +119,7 @@ def objects_to_msg(objects, header):
         m.plane = [float(x) for x in o['plane']]
         for key in OBJECT_COUNTS:
             setattr(m, key, int(o.get(key, 0)))
-        for key in ('transmitted_fraction', 'landing_fitness', 'plane_correction'):
+        for key in ('real_fraction', 'landing_fitness', 'plane_correction'):
             setattr(m, key, float(o.get(key, float('nan') if key != 'plane_correction' else 0.0)))
         m.inlier_fraction = float(o.get('inlier_fraction', float('nan')))
         m.plane_refined = bool(o.get('plane_refined', False))
@@ -137,7 +137,7 @@ def objects_from_msg(msg):
             'corners': np.array([[c.x, c.y, c.z] for c in m.corners], float),
             'width': float(m.width), 'height': float(m.height), 'plane': np.array(m.plane, float),
             **{key: int(getattr(m, key)) for key in OBJECT_COUNTS},
-            'inlier_fraction': float(m.inlier_fraction), 'transmitted_fraction': float(m.transmitted_fraction),
+            'inlier_fraction': float(m.inlier_fraction), 'real_fraction': float(m.real_fraction),
             'landing_fitness': float(m.landing_fitness), 'plane_refined': bool(m.plane_refined),
             'plane_correction': float(m.plane_correction), 'mean_surface_intensity': float(m.mean_surface_intensity),
         })

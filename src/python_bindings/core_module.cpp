@@ -258,7 +258,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["mirrored_points"] = e.mirrored_points;
   d["tested_points"] = e.tested_points;
   d["inlier_fraction"] = static_cast<double>(e.inlier_fraction);
-  d["transmitted_fraction"] = static_cast<double>(e.transmitted_fraction);
+  d["real_fraction"] = static_cast<double>(e.real_fraction);
   d["landing_fitness"] = static_cast<double>(e.landing_fitness);
   d["plane_refined"] = e.plane_refined;
   d["plane_correction"] = static_cast<double>(e.plane_correction);

@@ -235,7 +235,7 @@ void toObjectArray(const std_msgs::Header& header, const std::vector<core::Refle
     out.mirrored_points = static_cast<std::uint32_t>(evidence.mirrored_points);
     out.tested_points = static_cast<std::uint32_t>(evidence.tested_points);
     out.inlier_fraction = evidence.inlier_fraction;
-    out.transmitted_fraction = evidence.transmitted_fraction;
+    out.real_fraction = evidence.real_fraction;
     out.landing_fitness = evidence.landing_fitness;
     out.plane_refined = evidence.plane_refined;
     out.plane_correction = evidence.plane_correction;

@@ -198,7 +198,7 @@ TEST(ObjectType, GlassThatAlsoReflectsIsGlass)
   EXPECT_EQ(typeIn(sweep, object), ObjectType::glass);
   EXPECT_GT(object.evidence.phantom_points, 100u);
   EXPECT_GT(object.evidence.transmitted_points, 100u);
-  EXPECT_GT(object.evidence.transmitted_fraction, 0.3f);
+  EXPECT_GT(object.evidence.real_fraction, 0.3f);
 }
 
 TEST(ObjectType, ASurfaceThatOnlyReflectsIsAMirror)

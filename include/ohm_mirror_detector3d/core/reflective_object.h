@@ -47,9 +47,9 @@ struct TypeEvidence
   std::size_t undecided_points = 0;    // estimated: where they land is occluded, out of view, or without return
   // Share of the tested points that land on what the sensor saw (phantoms and ambiguous).
   float inlier_fraction = std::numeric_limits<float>::quiet_NaN();
-  // Share of the transmitted points among the phantoms and transmitted points inside the
-  // rectangle (away from its border, where points beside the surface are seen): what types it.
-  float transmitted_fraction = std::numeric_limits<float>::quiet_NaN();
+  // Share of the real points (transmitted or occluded) among the phantoms and real points inside
+  // the rectangle (away from its border, where points beside the surface are seen): what types it.
+  float real_fraction = std::numeric_limits<float>::quiet_NaN();
   // Mean squared distance between the sampled phantoms and what the sensor saw where they land [m^2].
   float landing_fitness = std::numeric_limits<float>::quiet_NaN();
   // Whether the plane was refined from the phantoms, and by how much it turned [rad].
