@@ -40,10 +40,11 @@ constexpr float kMaxVoxel = 0.02f;
 // Most cells of the landing cells' grid; a larger landing box gets larger cells.
 constexpr std::size_t kMaxLandingCells = std::size_t(1) << 20;
 // A mirror transmits nothing: the points behind it that are real (seen through the rectangle's
-// inside, or hidden where their reflection lands: behind a wall the sensor saw, where no mirror
-// could show anything either) come from sampling gaps, mixed pixels and the odd occluder, at
-// most about a tenth of its decided points. Glass that lets the sensor through shows clearly
-// more, however much it also reflects.
+// inside; when too few are seen through or land on seen geometry, also the occluded ones, whose
+// reflection lies behind what the sensor saw there, where no mirror in the same room could show
+// anything) come from sampling gaps, mixed pixels and the odd occluder, at most about a tenth of
+// its decided points. Glass that lets the sensor through shows clearly more, however much it
+// also reflects.
 constexpr float kGlassRealFraction = 0.2f;
 // Points behind whose ray crosses the plane within this of the rectangle's border (at most a
 // quarter of its side) are not counted for the type: through the border and the cone's margin
@@ -316,7 +317,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
 
   // What the sample said.
   std::size_t counts[kReflectionOutcomeCount] = {};
-  std::size_t inside_phantoms = 0, inside_real = 0;
+  std::size_t inside_phantoms = 0, inside_transmitted = 0, inside_occluded = 0;
   double squared_landing = 0.0;
   std::size_t landing_count = 0;
   for (std::size_t s = 0; s < samples; ++s)
@@ -331,7 +332,8 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
     if (!b.sample_inside[s])
       continue;
     inside_phantoms += t.outcome == ReflectionOutcome::phantom ? 1 : 0;
-    inside_real += t.outcome == ReflectionOutcome::transmitted || t.outcome == ReflectionOutcome::occluded ? 1 : 0;
+    inside_transmitted += t.outcome == ReflectionOutcome::transmitted ? 1 : 0;
+    inside_occluded += t.outcome == ReflectionOutcome::occluded ? 1 : 0;
   }
   auto estimated = [weight](std::size_t n) {
     return static_cast<std::size_t>(std::lround(static_cast<double>(n) * weight));
@@ -346,6 +348,10 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   if (landing_count > 0)
     result.landing_fitness = static_cast<float>(squared_landing / static_cast<double>(landing_count));
 
+  // Phantoms and points seen through decide; only without enough of them do the occluded ones
+  // count as real (a mirror's phantoms hidden by furniture would otherwise make it glass).
+  const bool seen_enough = estimated(inside_phantoms + inside_transmitted) >= min_points;
+  const std::size_t inside_real = inside_transmitted + (seen_enough ? 0 : inside_occluded);
   const std::size_t inside_decided = inside_phantoms + inside_real;
   if (estimated(inside_decided) < min_points)
     return;

@@ -47,8 +47,9 @@ struct TypeEvidence
   std::size_t undecided_points = 0;    // estimated: where they land is occluded, out of view, or without return
   // Share of the tested points that land on what the sensor saw (phantoms and ambiguous).
   float inlier_fraction = std::numeric_limits<float>::quiet_NaN();
-  // Share of the real points (transmitted or occluded) among the phantoms and real points inside
-  // the rectangle (away from its border, where points beside the surface are seen): what types it.
+  // Share of the real points (transmitted; occluded too when few are transmitted or phantoms)
+  // among the phantoms and real points inside the rectangle (away from its border, where points
+  // beside the surface are seen): what types it.
   float real_fraction = std::numeric_limits<float>::quiet_NaN();
   // Mean squared distance between the sampled phantoms and what the sensor saw where they land [m^2].
   float landing_fitness = std::numeric_limits<float>::quiet_NaN();
