@@ -33,6 +33,21 @@ Label behindLabel(ObjectType type)
     default: return Label::behindErrorS;
   }
 }
+
+// A point behind an object, by its own evidence first. A point without evidence of its own (it
+// lands on a surface the reflection maps onto itself, where the sensor could not see, or where
+// it saw nothing) takes what the object's other points said, its type: behind a mirror it is a
+// phantom too, behind glass it is real, behind an unknown surface nobody can tell (behindErrorS).
+Label behindLabel(const ReflectiveObject& object, ReflectionOutcome outcome)
+{
+  switch (outcome)
+  {
+    case ReflectionOutcome::phantom: return Label::behindReflective;
+    case ReflectionOutcome::transmitted: return Label::behindTransparent;
+    default: return behindLabel(object.type);
+  }
+}
+
 // Beams per block for the block test below: consecutive beams of one scan line lie close
 // together, so a block's bounding box stays small, and 64 beams amortise the box tests.
 constexpr std::size_t kBlockBeams = 64;
@@ -118,7 +133,8 @@ private:
 // Labels the points of beams [block, block_end) of one echo, testing only the cones in
 // `reachable` (every other cone is known to miss the block).
 void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end, const std::vector<std::size_t>& reachable,
-                const std::vector<VisionCone>& cones, std::vector<ReflectiveObject>& objects,
+                const std::vector<VisionCone>& cones, const ReflectionEvidence& evidence,
+                std::vector<ReflectiveObject>& objects,
                 std::vector<Label>& echo_labels, std::vector<std::int32_t>& echo_assignment,
                 std::vector<double>& intensity_sums, std::vector<std::size_t>& intensity_counts)
 {
@@ -160,8 +176,16 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
     }
     else
     {
-      label = behindLabel(object.type);
+      const ReflectionOutcome outcome = evidence.test(object.plane, echo.points[i], object.landing_tolerance).outcome;
+      label = behindLabel(object, outcome);
       ++object.behind_points;
+      switch (outcome)
+      {
+        case ReflectionOutcome::phantom: ++object.phantom_points; break;
+        case ReflectionOutcome::transmitted: ++object.transmitted_points; break;
+        case ReflectionOutcome::ambiguous: ++object.ambiguous_points; break;
+        default: ++object.undecided_points; break;
+      }
     }
   }
 }
@@ -179,15 +203,16 @@ ConeLabelling::ConeLabelling(const ConeLabellingConfig& config)
 }
 
 void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
-                          std::vector<ReflectiveObject>& objects, SweepLabels& labels,
-                          ObjectAssignment& assignment) const
+                          const ReflectionEvidence& evidence, std::vector<ReflectiveObject>& objects,
+                          SweepLabels& labels, ObjectAssignment& assignment) const
 {
   const std::size_t beams = sweep.beamCount();
   assignment.reset(beams);
   std::vector<double> intensity_sums(objects.size(), 0.0);
   std::vector<std::size_t> intensity_counts(objects.size(), 0);
   for (ReflectiveObject& object : objects)
-    object.surface_points = object.behind_points = 0;
+    object.surface_points = object.behind_points = object.phantom_points = object.transmitted_points =
+        object.ambiguous_points = object.undecided_points = 0;
 
   const float plane_threshold = plane_threshold_;
   const float margin = cone_margin_;
@@ -224,7 +249,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
           if (any && (block_box.any_non_finite || bounds[j].mayAffect(low, high)))
             reachable.push_back(j);
       }
-      labelBlock(echo, block, block_end, reachable, cones, objects, labels.echoes[k], assignment.echoes[k],
+      labelBlock(echo, block, block_end, reachable, cones, evidence, objects, labels.echoes[k], assignment.echoes[k],
                  intensity_sums, intensity_counts);
     }
   }

@@ -1,10 +1,11 @@
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
-#include "ohm_mirror_detector3d/core/mirror_registration.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -20,10 +21,12 @@ constexpr float kMadToSigma = 1.4826f;
 constexpr float kMinHuberThreshold = 0.01f;
 }  // namespace
 
-void MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Vector3f>& surface,
-                                   const std::vector<Eigen::Vector3f>& behind, const Eigen::Vector3f& sensor_origin,
-                                   double phantom_weight, ReflectiveObject& object)
+PlaneRefinement MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Vector3f>& surface,
+                                              const std::vector<Eigen::Vector3f>& behind,
+                                              const Eigen::Vector3f& sensor_origin, double phantom_weight,
+                                              ReflectiveObject& object)
 {
+  PlaneRefinement result;
   // Only the mirror's 3 degrees of freedom (normal tilt, offset) are estimated, by
   // Gauss-Newton; residuals are point-to-plane distances to the real surface at the nearest
   // real point, because point-to-point residuals carry the offset between two samplings of a
@@ -33,6 +36,8 @@ void MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Ve
   // floor, say), the surface echoes keep it.
   Eigen::Vector3f normal = object.plane.head<3>();
   float offset = object.plane[3];
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  double weighted_squares = 0.0, weights = 0.0;
   for (int iteration = 0; iteration < kPlaneRefinementIterations; ++iteration)
   {
     const Eigen::Vector3f helper = std::fabs(normal.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
@@ -40,11 +45,15 @@ void MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Ve
     const Eigen::Vector3f v = normal.cross(u);
     Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
     Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+    weighted_squares = weights = 0.0;
     for (const Eigen::Vector3f& s : surface)
     {
       const Eigen::Vector3d jacobian(u.dot(s), v.dot(s), 1.0);
+      const double residual = static_cast<double>(normal.dot(s) + offset);
       hessian += jacobian * jacobian.transpose();
-      gradient += jacobian * static_cast<double>(normal.dot(s) + offset);
+      gradient += jacobian * residual;
+      weighted_squares += residual * residual;
+      weights += 1.0;
     }
     // Phantom residuals first, then a robust (Huber) weight from their spread: a phantom
     // matched to the wrong surface (a corner, a part of the room the sensor did not see)
@@ -71,7 +80,7 @@ void MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Ve
     }
     const std::size_t used = correspondences_.size();
     if (used < 3)
-      return;
+      return result;
     absolute_residuals_.resize(used);
     for (std::size_t c = 0; c < used; ++c)
       absolute_residuals_[c] = std::fabs(correspondences_[c].residual);
@@ -83,10 +92,13 @@ void MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Ve
       const double weight = phantom_weight * (magnitude <= huber ? 1.0 : huber / magnitude);
       hessian += weight * c.jacobian * c.jacobian.transpose();
       gradient += weight * c.jacobian * static_cast<double>(c.residual);
+      weighted_squares += weight * static_cast<double>(c.residual) * static_cast<double>(c.residual);
+      weights += weight;
     }
+    information = hessian;
     const Eigen::Vector3d step = -hessian.ldlt().solve(gradient);
     if (!step.allFinite())
-      return;
+      return result;
     normal = (normal + static_cast<float>(step[0]) * u + static_cast<float>(step[1]) * v).normalized();
     offset += static_cast<float>(step[2]);
     if (step.head<2>().norm() < 1e-6 && std::fabs(step[2]) < 1e-5)
@@ -95,14 +107,22 @@ void MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Ve
   // A refinement that turned the plane away from the sensor, or by more than ICP may move
   // the phantoms, fitted something else: keep the surface plane.
   if (!(normal.dot(sensor_origin) + offset > 0.0f) ||
-      normal.dot(object.plane.head<3>()) < std::cos(kMaxMirrorCorrectionAngle))
-    return;
+      normal.dot(object.plane.head<3>()) < std::cos(kMaxPlaneRefinementAngle))
+    return result;
+  // The tilt's standard deviation: residual variance times the inverse information, its larger
+  // tilt axis.
+  const Eigen::Matrix2d tilt_covariance = (weighted_squares / std::max(weights, 1.0)) *
+                                          information.inverse().topLeftCorner<2, 2>();
+  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(tilt_covariance).eigenvalues()[1];
+  result.refined = true;
+  result.angle_uncertainty = static_cast<float>(std::sqrt(std::max(largest, 0.0)));
   object.plane.head<3>() = normal;
   object.plane[3] = offset;
   object.centre -= object.signedDistance(object.centre) * normal;
   // Keep the rectangle's axes in the refined plane (they turn by a fraction of a degree).
   object.width_axis = (object.width_axis - object.width_axis.dot(normal) * normal).normalized();
   object.height_axis = normal.cross(object.width_axis);
+  return result;
 }
 
 }  // namespace core

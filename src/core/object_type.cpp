@@ -10,29 +10,20 @@
 
 #include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
-#include "ohm_mirror_detector3d/core/mirror_registration.h"
 #include "ohm_mirror_detector3d/core/real_scene.h"
 #include "ohm_mirror_detector3d/core/spatial_index.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 
-// The type decision. Why this is not pcl::IterativeClosestPoint on the whole scene (which it
-// was, and which the bench still runs as its baseline): the registration only has to answer
-// "do the phantoms land on the real scene near where a pure reflection puts them?". So
-// - the phantoms are a deterministic sample of at most kMaxSamples points (evenly spread
-//   over the behind points in beam order): the inlier fraction and fitness are shares and
-//   means, and a few hundred points estimate them to a few percent;
-// - the target is only the real scene where they can land (the box of the mirrored points
-//   grown by icp_max_distance, and there only the cells near a sampled phantom), thinned to
-//   one point per small voxel, so that a dense scanner does not pay for points that add no
-//   information at the ICP's 10 cm scale;
-// - nearest neighbours come from the spatial index over that target (RealScene: cells
-//   icp_max_distance wide, queried over 3 x 3 columns of 3 cells, bounded by the
-//   correspondence distance) instead of a kd-tree: a far point costs 9 short scans, where an
-//   unbounded kd-tree search for it walks much of the tree;
-// - ICP stops once an iteration moves the phantoms by less than a micrometre
-//   (mirror_registration.h); a mirror's plane is then refined (mirror_plane_refinement.h).
-// Together they take the type decision from seconds to about a millisecond per object on a
-// 1080 x 1000 sweep, with the same decisions.
+// The type decision. What it asks of each point behind the object is ReflectionEvidence's test;
+// what it adds is speed and the plane:
+// - the points tested are a deterministic sample of at most kMaxSamples points (evenly spread
+//   over the points behind in beam order): the type follows from shares, and 512 points
+//   estimate them to a few percent (the cone labelling then tests every point);
+// - when enough of them land on seen geometry, the plane is refined from them first
+//   (mirror_plane_refinement.h) against the real scene where they land (RealScene: only the
+//   cells near a sampled phantom, thinned to one point per 2 cm voxel), which took the
+//   back-projection error of a mirror's phantoms from 5 cm to 0.8 cm; reflecting glass and
+//   shiny metal get the same.
 
 namespace ohm_mirror_detector3d
 {
@@ -40,7 +31,7 @@ namespace core
 {
 namespace
 {
-// At most this many of the points behind an object are registered (see the top of the file).
+// At most this many of the points behind an object are tested (see the top of the file).
 constexpr std::size_t kMaxSamples = 512;
 // The real scene is thinned to one point per voxel of icp_max_distance / kVoxelsPerDistance,
 // at most kMaxVoxel wide: the 1 cm noise of the scanner stays the largest error.
@@ -48,10 +39,27 @@ constexpr float kVoxelsPerDistance = 5.0f;
 constexpr float kMaxVoxel = 0.02f;
 // Most cells of the landing cells' grid; a larger landing box gets larger cells.
 constexpr std::size_t kMaxLandingCells = std::size_t(1) << 20;
-// Glass needs a clear contradiction: fewer than this share of the inlier fraction a mirror
-// needs, before and after ICP. Between the two the evidence is ambiguous and the type stays
-// unknown rather than being a confident wrong call (e.g. a mirror reflecting mostly sky).
-constexpr float kGlassFractionOfRequired = 0.5f;
+// A mirror transmits nothing: the points behind it that are real (seen through the rectangle's
+// inside; when too few are seen through or land on seen geometry, also the occluded ones, whose
+// reflection lies behind what the sensor saw there, where no mirror in the same room could show
+// anything) come from sampling gaps, mixed pixels and the odd occluder, at most about a tenth of
+// its decided points. Glass that lets the sensor through shows clearly more, however much it
+// also reflects.
+constexpr float kGlassRealFraction = 0.2f;
+// Points behind whose ray crosses the plane within this of the rectangle's border (at most a
+// quarter of its side) are not counted for the type: through the border and the cone's margin
+// the sensor sees what lies beside the surface.
+constexpr float kTypeBorder = 0.1f;
+// The landing tolerance grows with range by this share (the range noise of a scanner grows
+// with it), and with the distance behind by twice this many standard deviations of the
+// plane's tilt (reflection turns a tilt error into twice the angle).
+constexpr float kTolerancePerRange = 0.005f;
+constexpr float kPlaneSigmas = 3.0f;
+// The tilt uncertainty of a plane fitted to its surface echoes, at least this (their fit
+// assumes independent noise; real echoes of one surface share some) and at most this (beyond,
+// the plane is no help and the tolerance would let everything land).
+constexpr float kMinTiltUncertainty = 0.1f * static_cast<float>(M_PI) / 180.0f;
+constexpr float kMaxTiltUncertainty = 2.0f * static_cast<float>(M_PI) / 180.0f;
 
 // Beams per block of the sweep's block boxes (see ObjectTypeAnalyzer::beginSweep), and the
 // slack of the tests on them, far above float rounding.
@@ -122,6 +130,32 @@ private:
   Eigen::Array<std::int64_t, 3, 1> n_ = Eigen::Array<std::int64_t, 3, 1>::Ones();
   std::vector<char> marked_;
 };
+
+// Standard deviation of the tilt of a plane fitted to `surface` (least squares: residual
+// variance over the points' second moment along the rectangle's shorter spread), clamped to
+// [kMinTiltUncertainty, kMaxTiltUncertainty].
+float tiltUncertainty(const std::vector<Eigen::Vector3f>& surface, const ReflectiveObject& object)
+{
+  if (surface.size() < 3)
+    return kMaxTiltUncertainty;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : surface)
+    mean += p.cast<double>();
+  mean /= static_cast<double>(surface.size());
+  double residuals = 0.0, along_width = 0.0, along_height = 0.0;
+  for (const Eigen::Vector3f& p : surface)
+  {
+    const Eigen::Vector3d d = p.cast<double>() - mean;
+    const double r = object.signedDistance(p);
+    residuals += r * r;
+    along_width += std::pow(d.dot(object.width_axis.cast<double>()), 2);
+    along_height += std::pow(d.dot(object.height_axis.cast<double>()), 2);
+  }
+  const double variance = residuals / static_cast<double>(surface.size() - 2);
+  const double spread = std::min(along_width, along_height);
+  const float sigma = spread > 0.0 ? static_cast<float>(std::sqrt(variance / spread)) : kMaxTiltUncertainty;
+  return std::min(kMaxTiltUncertainty, std::max(kMinTiltUncertainty, sigma));
+}
 }  // namespace
 
 struct ObjectTypeAnalyzer::Buffers
@@ -133,14 +167,17 @@ struct ObjectTypeAnalyzer::Buffers
   std::size_t boxes_beams = 0;
 
   std::vector<Eigen::Vector3f> all_behind;    // every point behind the object, as measured
-  std::vector<Eigen::Vector3f> behind;        // the sample of them that is registered
-  std::vector<Eigen::Vector3f> mirrored;      // the sample reflected across the plane
-  std::vector<Eigen::Vector3f> candidates;    // real points where the sample can land
+  std::vector<char> all_inside;               // whether its ray crosses the rectangle's inside
+  std::vector<Eigen::Vector3f> sample;        // the sample of them that is tested
+  std::vector<char> sample_inside;
+  std::vector<ReflectionTest> tests;          // of the sample
+  std::vector<Eigen::Vector3f> landed;        // the sampled points that land on seen geometry
+  std::vector<Eigen::Vector3f> mirrored;      // those reflected across the plane
+  std::vector<Eigen::Vector3f> candidates;    // real points where they can land
   LandingCells landing;
   std::vector<Eigen::Vector3f> real;          // candidates thinned to one per voxel
   CellKeySet voxels;
   RealScene scene;                            // of `real`
-  MirrorRegistration registration;
   std::vector<Eigen::Vector3f> surface;       // the surface echoes its plane was fitted to
   MirrorPlaneRefinement refinement;
 };
@@ -171,14 +208,14 @@ void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
 }
 
 void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
-                                 ReflectiveObject& object)
+                                 const ReflectionEvidence& evidence, ReflectiveObject& object)
 {
   Buffers& b = *buffers_;
   const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
   const Eigen::Vector3f normal = object.plane.head<3>();
   const float plane_offset = object.plane[3];
-  TypeEvidence& evidence = object.evidence;
-  evidence = TypeEvidence();
+  TypeEvidence& result = object.evidence;
+  result = TypeEvidence();
   object.type = ObjectType::unknown;
 
   const float plane_threshold = static_cast<float>(config_.plane_threshold);
@@ -186,10 +223,22 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   const float max_distance = static_cast<float>(config_.icp_max_distance);
   const std::size_t min_points = static_cast<std::size_t>(config_.icp_min_points);
 
+  b.surface.clear();
+  for (const PointRef& ref : object.surface_inliers)
+    b.surface.push_back(sweep.echoes[ref.echo].points[ref.beam]);
+  LandingTolerance tolerance;
+  tolerance.base = max_distance;
+  tolerance.per_range = kTolerancePerRange;
+  tolerance.per_behind = 2.0f * kPlaneSigmas * tiltUncertainty(b.surface, object);
+  object.landing_tolerance = tolerance;
+
+  // The points behind, and whether each is seen through the rectangle's inside.
   b.all_behind.clear();
+  b.all_inside.clear();
   const VisionCone cone(object, sensor_origin, plane_threshold, margin);
-  Eigen::AlignedBox3f landing_zone;
-  Eigen::Vector3f direction_sum = Eigen::Vector3f::Zero();
+  const float origin_side = object.signedDistance(sensor_origin);
+  const float inside_width = 0.5f * object.width - std::min(kTypeBorder, 0.25f * object.width);
+  const float inside_height = 0.5f * object.height - std::min(kTypeBorder, 0.25f * object.height);
   const std::size_t beams = sweep.beamCount();
   for (std::size_t k = 0; k < 2; ++k)
   {
@@ -209,66 +258,150 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
         continue;
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
       // Most points are in front of the plane: skip them before the cone test.
-      if (!(cone.side(p) < -plane_threshold) || cone.locate(p).relation != ConeRelation::behind)
+      const float point_side = cone.side(p);
+      if (!(point_side < -plane_threshold) || cone.locate(p).relation != ConeRelation::behind)
         continue;
-      const Eigen::Vector3f mirrored = object.reflect(p);
+      const Eigen::Vector3f crossing =
+          sensor_origin + (origin_side / (origin_side - point_side)) * (p - sensor_origin) - object.centre;
       b.all_behind.push_back(p);
-      landing_zone.extend(mirrored);
-      direction_sum += (mirrored - sensor_origin).normalized();
+      b.all_inside.push_back(std::fabs(crossing.dot(object.width_axis)) <= inside_width &&
+                             std::fabs(crossing.dot(object.height_axis)) <= inside_height);
     }
   }
-  evidence.mirrored_points = b.all_behind.size();
-  if (evidence.mirrored_points < min_points)
+  const std::size_t total = b.all_behind.size();
+  result.mirrored_points = total;
+  if (total < min_points)
     return;
 
-  // The sample: kMaxSamples points spread evenly over the behind points in beam order.
-  b.behind.clear();
-  b.mirrored.clear();
-  const std::size_t total = b.all_behind.size();
+  // The sample: kMaxSamples points spread evenly over the points behind in beam order; each
+  // sampled point stands for `weight` of them.
+  b.sample.clear();
+  b.sample_inside.clear();
   const std::size_t samples = std::min(total, kMaxSamples);
   for (std::size_t s = 0; s < samples; ++s)
   {
-    const Eigen::Vector3f& p = b.all_behind[(2 * s + 1) * total / (2 * samples)];
-    b.behind.push_back(p);
-    b.mirrored.push_back(object.reflect(p));
+    const std::size_t i = (2 * s + 1) * total / (2 * samples);
+    b.sample.push_back(b.all_behind[i]);
+    b.sample_inside.push_back(b.all_inside[i]);
   }
-  // Every sampled phantom stands for this many in the plane refinement's least squares.
-  const double phantom_weight = static_cast<double>(total) / static_cast<double>(samples);
-
-  // The directions in which the mirrored points lie, as a cone around their mean direction:
-  // real points seen in it tell that the sensor looked there.
-  const Eigen::Vector3f mean_direction = direction_sum.normalized();
-  float min_cosine = 1.0f;
-  for (const Eigen::Vector3f& p : b.all_behind)
-    min_cosine = std::min(min_cosine, (object.reflect(p) - sensor_origin).normalized().dot(mean_direction));
-
-  // d.m >= c |d| without a square root per point (c may be negative for a very wide spread).
-  const float min_cosine_squared = min_cosine * min_cosine;
-  auto inTheirDirections = [&](const Eigen::Vector3f& d) {
-    const float along = d.dot(mean_direction);
-    if (min_cosine >= 0.0f)
-      return along >= 0.0f && along * along >= min_cosine_squared * d.squaredNorm();
-    return along >= 0.0f || along * along <= min_cosine_squared * d.squaredNorm();
+  const double weight = static_cast<double>(total) / static_cast<double>(samples);
+  auto testSample = [&]() {
+    b.tests.resize(samples);
+    for (std::size_t s = 0; s < samples; ++s)
+      b.tests[s] = evidence.test(object.plane, b.sample[s], object.landing_tolerance);
   };
+  auto lands = [](const ReflectionTest& t) {
+    return t.outcome == ReflectionOutcome::phantom || t.outcome == ReflectionOutcome::ambiguous;
+  };
+  testSample();
+
+  // Enough of them land on seen geometry: refine the plane from them, then test again.
+  b.landed.clear();
+  for (std::size_t s = 0; s < samples; ++s)
+    if (lands(b.tests[s]))
+      b.landed.push_back(b.sample[s]);
+  if (static_cast<double>(b.landed.size()) * weight >= static_cast<double>(min_points) && b.landed.size() >= 3)
+  {
+    const Eigen::Vector3f before = normal;
+    const PlaneRefinement refinement = refinePlane(sweep, labels, sensor_origin, weight, object);
+    if (refinement.refined)
+    {
+      result.plane_refined = true;
+      result.plane_correction = std::acos(std::min(1.0f, std::fabs(before.dot(object.plane.head<3>()))));
+      object.landing_tolerance.per_behind =
+          2.0f * kPlaneSigmas *
+          std::min(kMaxTiltUncertainty, std::max(kMinTiltUncertainty, refinement.angle_uncertainty));
+      testSample();
+    }
+  }
+
+  // What the sample said.
+  std::size_t counts[kReflectionOutcomeCount] = {};
+  std::size_t inside_phantoms = 0, inside_transmitted = 0, inside_occluded = 0;
+  double squared_landing = 0.0;
+  std::size_t landing_count = 0;
+  for (std::size_t s = 0; s < samples; ++s)
+  {
+    const ReflectionTest& t = b.tests[s];
+    ++counts[static_cast<int>(t.outcome)];
+    if (lands(t))
+    {
+      squared_landing += static_cast<double>(t.range_difference) * t.range_difference;
+      ++landing_count;
+    }
+    if (!b.sample_inside[s])
+      continue;
+    inside_phantoms += t.outcome == ReflectionOutcome::phantom ? 1 : 0;
+    inside_transmitted += t.outcome == ReflectionOutcome::transmitted ? 1 : 0;
+    inside_occluded += t.outcome == ReflectionOutcome::occluded ? 1 : 0;
+  }
+  auto estimated = [weight](std::size_t n) {
+    return static_cast<std::size_t>(std::lround(static_cast<double>(n) * weight));
+  };
+  result.tested_points = samples;
+  result.phantom_points = estimated(counts[static_cast<int>(ReflectionOutcome::phantom)]);
+  result.transmitted_points = estimated(counts[static_cast<int>(ReflectionOutcome::transmitted)]);
+  result.ambiguous_points = estimated(counts[static_cast<int>(ReflectionOutcome::ambiguous)]);
+  result.undecided_points = estimated(counts[static_cast<int>(ReflectionOutcome::occluded)] +
+                                      counts[static_cast<int>(ReflectionOutcome::noReturn)]);
+  result.inlier_fraction = static_cast<float>(landing_count) / static_cast<float>(samples);
+  if (landing_count > 0)
+    result.landing_fitness = static_cast<float>(squared_landing / static_cast<double>(landing_count));
+
+  // Phantoms and points seen through decide; only without enough of them do the occluded ones
+  // count as real (a mirror's phantoms hidden by furniture would otherwise make it glass).
+  const bool seen_enough = estimated(inside_phantoms + inside_transmitted) >= min_points;
+  const std::size_t inside_real = inside_transmitted + (seen_enough ? 0 : inside_occluded);
+  const std::size_t inside_decided = inside_phantoms + inside_real;
+  if (estimated(inside_decided) < min_points)
+    return;
+  result.real_fraction = static_cast<float>(inside_real) / static_cast<float>(inside_decided);
+  if (result.real_fraction >= kGlassRealFraction)
+    object.type = ObjectType::glass;
+  else if (static_cast<double>(inside_phantoms) >= config_.icp_min_inlier_fraction * inside_decided &&
+           result.landing_fitness <= static_cast<float>(config_.icp_fitness_threshold))
+    object.type = ObjectType::mirror;
+}
+
+PlaneRefinement ObjectTypeAnalyzer::refinePlane(const Sweep& sweep, const SweepLabels& labels,
+                                                const Eigen::Vector3f& sensor_origin, double weight,
+                                                ReflectiveObject& object)
+{
+  Buffers& b = *buffers_;
+  const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
+  const Eigen::Vector3f normal = object.plane.head<3>();
+  const float plane_offset = object.plane[3];
+  const float plane_threshold = static_cast<float>(config_.plane_threshold);
+  const float max_distance = static_cast<float>(config_.icp_max_distance);
+
+  // The real scene where the landed points land: real points (unchecked or valid: error and
+  // errorSurface points are echoes of this or another surface) in front of the plane, in the
+  // cells near a landed point.
+  b.mirrored.clear();
+  Eigen::AlignedBox3f landing_zone;
+  for (const Eigen::Vector3f& p : b.landed)
+  {
+    b.mirrored.push_back(object.reflect(p));
+    landing_zone.extend(b.mirrored.back());
+  }
   landing_zone.min().array() -= max_distance;
   landing_zone.max().array() += max_distance;
   b.landing.build(landing_zone, max_distance, b.mirrored);
   b.candidates.clear();
-  std::size_t seen_in_their_directions = 0;
   Eigen::AlignedBox3f grown_landing_zone = landing_zone;
   grown_landing_zone.min().array() -= kBlockSlack;
   grown_landing_zone.max().array() += kBlockSlack;
+  const std::size_t beams = sweep.beamCount();
   for (std::size_t k = 0; k < 2; ++k)
   {
     for (std::size_t i = 0; i < beams; ++i)
     {
-      // Blocks with no point in front of the plane, or, once enough points were seen in the
-      // phantoms' directions, none in the landing box, hold nothing for this loop.
+      // Blocks with no point in front of the plane, or none in the landing box, hold nothing.
       if (blocked && i % kBlockBeams == 0)
       {
         const Eigen::AlignedBox3f& box = b.block_boxes[k][i / kBlockBeams];
         if (box.isEmpty() || maxSide(box, normal, plane_offset) < plane_threshold - kBlockSlack ||
-            (seen_in_their_directions >= min_points && !box.intersects(grown_landing_zone)))
+            !box.intersects(grown_landing_zone))
         {
           i += kBlockBeams - 1;
           continue;
@@ -278,18 +411,12 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
       if ((label != Label::unchecked && label != Label::valid) || isRepeatedReturn(sweep, k, i))
         continue;
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-      if (!(cone.side(p) > plane_threshold))
-        continue;
-      // Only whether there are icp_min_points matters.
-      if (seen_in_their_directions < min_points && inTheirDirections(p - sensor_origin))
-        ++seen_in_their_directions;
-      if (landing_zone.contains(p) && b.landing.contains(p))
+      if (object.signedDistance(p) > plane_threshold && landing_zone.contains(p) && b.landing.contains(p))
         b.candidates.push_back(p);
     }
   }
-  if (seen_in_their_directions < min_points)
-    return;
-
+  if (b.candidates.size() < 3)
+    return PlaneRefinement();
   // One real point per voxel (the first in beam order).
   const float voxel = std::min(max_distance / kVoxelsPerDistance, kMaxVoxel);
   b.real.clear();
@@ -297,50 +424,8 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   for (const Eigen::Vector3f& p : b.candidates)
     if (b.voxels.insert(cell_key::of(p, landing_zone.min(), 1.0f / voxel)))
       b.real.push_back(p);
-  if (b.candidates.size() < 3)
-  {
-    // The sensor looked there and nothing real lies where the mirrored points land.
-    evidence.inlier_fraction = 0.0f;
-    object.type = ObjectType::glass;
-    return;
-  }
   b.scene.build(b.real, max_distance);
-
-  // Shares of the sample within max_distance of a real point before ICP, and after it.
-  double unused = 0.0;
-  const float fraction_before_icp = static_cast<float>(countMatches(b.scene, b.mirrored, unused)) / samples;
-  const float min_fraction = static_cast<float>(config_.icp_min_inlier_fraction);
-  // Once ICP has moved the phantoms further than a mirror's may move, the object is no
-  // mirror; if enough of them matched before ICP it is no glass either, and nothing ICP does
-  // next can change that: it may stop there (on scenes where it slides along a floor, most of
-  // its iterations).
-  const bool may_stop_when_too_far = !(fraction_before_icp < kGlassFractionOfRequired * min_fraction);
-  evidence.icp_converged =
-      b.registration.align(b.scene, b.mirrored, may_stop_when_too_far, max_distance, evidence.icp_correction);
-
-  double squared_sum = 0.0;
-  const std::size_t matched = countMatches(b.scene, b.registration.aligned(), squared_sum);
-  evidence.inlier_fraction = static_cast<float>(matched) / static_cast<float>(samples);
-  evidence.matched_points =
-      static_cast<std::size_t>(std::lround(static_cast<double>(evidence.inlier_fraction) * total));
-  evidence.icp_fitness =
-      matched > 0 ? static_cast<float>(squared_sum / matched) : std::numeric_limits<float>::infinity();
-  const Eigen::Affine3f correction(evidence.icp_correction);
-  const float correction_angle = Eigen::AngleAxisf(correction.rotation()).angle();
-  const bool small_correction =
-      correction.translation().norm() <= max_distance && correction_angle <= kMaxMirrorCorrectionAngle;
-  const bool fits = evidence.icp_converged && small_correction && evidence.inlier_fraction >= min_fraction &&
-                    evidence.icp_fitness <= static_cast<float>(config_.icp_fitness_threshold);
-  if (fits)
-  {
-    object.type = ObjectType::mirror;
-    b.surface.clear();
-    for (const PointRef& ref : object.surface_inliers)
-      b.surface.push_back(sweep.echoes[ref.echo].points[ref.beam]);
-    b.refinement.refine(b.scene, b.surface, b.behind, sensor_origin, phantom_weight, object);
-  }
-  else if (std::max(fraction_before_icp, evidence.inlier_fraction) < kGlassFractionOfRequired * min_fraction)
-    object.type = ObjectType::glass;
+  return b.refinement.refine(b.scene, b.surface, b.landed, sensor_origin, weight, object);
 }
 
 }  // namespace core

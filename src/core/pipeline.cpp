@@ -76,6 +76,7 @@ void Pipeline::addObjectStage(std::unique_ptr<ObjectStage> stage)
 const PipelineResult& Pipeline::process(const Sweep& sweep, const SweepContext& context)
 {
   result_.times = StageTimes();
+  evidence_built_ = false;
   StageClock clock;
   const Eigen::Vector3f sensor_origin = context.sensorOrigin();
   detect(sweep, sensor_origin, clock);
@@ -106,21 +107,33 @@ void Pipeline::detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, 
   if (!r.objects.empty())
     s.type_analyzer.beginSweep(sweep);
   for (ReflectiveObject& object : r.objects)
-    s.type_analyzer.analyze(sweep, sensor_origin, r.labels, object);
+    s.type_analyzer.analyze(sweep, sensor_origin, r.labels, evidence(sweep, sensor_origin), object);
   r.times.type_analysis = clock.lap();
+}
+
+const ReflectionEvidence& Pipeline::evidence(const Sweep& sweep, const Eigen::Vector3f& sensor_origin)
+{
+  if (!evidence_built_)
+  {
+    evidence_.build(sweep, result_.labels, sensor_origin);
+    evidence_built_ = true;
+  }
+  return evidence_;
 }
 
 void Pipeline::runObjectStages(const Sweep& sweep, const SweepContext& context, StageClock& clock)
 {
   for (const std::unique_ptr<ObjectStage>& stage : object_stages_)
-    stage->process(sweep, context, result_.labels, result_.objects);
+    stage->process(sweep, context, evidence(sweep, context.sensorOrigin()), result_.labels, result_.objects);
   result_.times.object_stages = clock.lap();
 }
 
 void Pipeline::label(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, StageClock& clock)
 {
   PipelineResult& r = result_;
-  stages_.cone_labelling.apply(sweep, sensor_origin, r.objects, r.labels, r.assignment);
+  // No object: the evidence is not needed (and not built).
+  const ReflectionEvidence& sweep_evidence = r.objects.empty() ? evidence_ : evidence(sweep, sensor_origin);
+  stages_.cone_labelling.apply(sweep, sensor_origin, sweep_evidence, r.objects, r.labels, r.assignment);
   r.times.cone_labelling = clock.lap();
   collectCleaned(sweep, r.labels, r.objects, r.assignment, r.cleaned);
   r.times.cleaned_output = clock.lap();

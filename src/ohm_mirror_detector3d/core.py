@@ -24,7 +24,7 @@ to call) and releases the GIL while the core runs. Input rules, checked before a
 
 Outputs are numpy structured arrays with the fields of the nodelet's `labelled` and `cleaned`
 PointCloud2s (x y z intensity label echo beam, the same 24-byte layout) and objects as dicts
-with the fields of ReflectiveObject.msg (plus type_name, centre and icp_correction).
+with the fields of ReflectiveObject.msg (plus type_name and centre).
 """
 import dataclasses
 import re
@@ -189,9 +189,10 @@ class FilterResult:
       nanPoint with echo 0 and beam 0xFFFFFFFF.
     cleaned: the points for mapping (OUTPUT_DTYPE), mirror phantoms back-projected.
     objects: one dict per mirror/glass/unknown rectangle (id, type, type_name, corners (4, 3),
-      width, height, plane (a, b, c, d), centre, surface_points, behind_points,
-      mean_surface_intensity, mirrored_points, matched_points, inlier_fraction, icp_fitness,
-      icp_converged, icp_correction (4, 4)).
+      width, height, plane (a, b, c, d), centre, the counts surface_points, behind_points,
+      phantom_points, transmitted_points, ambiguous_points, undecided_points, the type's evidence
+      mirrored_points, tested_points, inlier_fraction, real_fraction, landing_fitness,
+      plane_refined, plane_correction, and mean_surface_intensity).
     stats: point counts of the stages and the core's wall time.
     """
     mode: str

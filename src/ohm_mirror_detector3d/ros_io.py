@@ -101,6 +101,11 @@ def cloud_to_array(msg, fields=None):
 # ---------------------------------------------------------------------------------------------
 # Objects
 
+# The point counts of ReflectiveObject.msg.
+OBJECT_COUNTS = ('surface_points', 'behind_points', 'phantom_points', 'transmitted_points', 'ambiguous_points',
+                 'undecided_points', 'mirrored_points', 'tested_points')
+
+
 def objects_to_msg(objects, header):
     """ReflectiveObjectArray from object dicts (id, type, corners (4,3), width, height, plane; optional counts)."""
     msg = ReflectiveObjectArray()
@@ -112,12 +117,12 @@ def objects_to_msg(objects, header):
         m.corners = [Point(*map(float, c)) for c in np.asarray(o['corners'], float).reshape(4, 3)]
         m.width, m.height = float(o['width']), float(o['height'])
         m.plane = [float(x) for x in o['plane']]
-        for key in ('surface_points', 'behind_points', 'mirrored_points', 'matched_points'):
+        for key in OBJECT_COUNTS:
             setattr(m, key, int(o.get(key, 0)))
-        m.inlier_fraction = float(o.get('inlier_fraction', 0.0))
-        m.icp_fitness = float(o.get('icp_fitness', 0.0))
-        m.icp_converged = bool(o.get('icp_converged', False))
-        m.icp_correction.rotation.w = 1.0
+        for key in ('real_fraction', 'landing_fitness', 'plane_correction'):
+            setattr(m, key, float(o.get(key, float('nan') if key != 'plane_correction' else 0.0)))
+        m.inlier_fraction = float(o.get('inlier_fraction', float('nan')))
+        m.plane_refined = bool(o.get('plane_refined', False))
         m.mean_surface_intensity = float(o.get('mean_surface_intensity', float('nan')))
         msg.objects.append(m)
     return msg
@@ -131,10 +136,10 @@ def objects_from_msg(msg):
             'id': int(m.id), 'type': int(m.type),
             'corners': np.array([[c.x, c.y, c.z] for c in m.corners], float),
             'width': float(m.width), 'height': float(m.height), 'plane': np.array(m.plane, float),
-            'surface_points': int(m.surface_points), 'behind_points': int(m.behind_points),
-            'mirrored_points': int(m.mirrored_points), 'matched_points': int(m.matched_points),
-            'inlier_fraction': float(m.inlier_fraction), 'icp_fitness': float(m.icp_fitness),
-            'icp_converged': bool(m.icp_converged), 'mean_surface_intensity': float(m.mean_surface_intensity),
+            **{key: int(getattr(m, key)) for key in OBJECT_COUNTS},
+            'inlier_fraction': float(m.inlier_fraction), 'real_fraction': float(m.real_fraction),
+            'landing_fitness': float(m.landing_fitness), 'plane_refined': bool(m.plane_refined),
+            'plane_correction': float(m.plane_correction), 'mean_surface_intensity': float(m.mean_surface_intensity),
         })
     return out
 

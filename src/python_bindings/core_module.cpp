@@ -250,18 +250,18 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["surface_points"] = object.surface_points;
   d["behind_points"] = object.behind_points;
   d["mean_surface_intensity"] = static_cast<double>(object.mean_surface_intensity);
+  d["phantom_points"] = object.phantom_points;
+  d["transmitted_points"] = object.transmitted_points;
+  d["ambiguous_points"] = object.ambiguous_points;
+  d["undecided_points"] = object.undecided_points;
   const core::TypeEvidence& e = object.evidence;
   d["mirrored_points"] = e.mirrored_points;
-  d["matched_points"] = e.matched_points;
+  d["tested_points"] = e.tested_points;
   d["inlier_fraction"] = static_cast<double>(e.inlier_fraction);
-  d["icp_fitness"] = static_cast<double>(e.icp_fitness);
-  d["icp_converged"] = e.icp_converged;
-  py::array_t<double> correction(std::vector<py::ssize_t>{ 4, 4 });
-  auto mw = correction.mutable_unchecked<2>();
-  for (int r = 0; r < 4; ++r)
-    for (int k = 0; k < 4; ++k)
-      mw(r, k) = e.icp_correction(r, k);
-  d["icp_correction"] = correction;
+  d["real_fraction"] = static_cast<double>(e.real_fraction);
+  d["landing_fitness"] = static_cast<double>(e.landing_fitness);
+  d["plane_refined"] = e.plane_refined;
+  d["plane_correction"] = static_cast<double>(e.plane_correction);
   return d;
 }
 

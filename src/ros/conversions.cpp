@@ -227,21 +227,18 @@ void toObjectArray(const std_msgs::Header& header, const std::vector<core::Refle
       out.plane[static_cast<std::size_t>(c)] = object.plane[c];
     out.surface_points = static_cast<std::uint32_t>(object.surface_points);
     out.behind_points = static_cast<std::uint32_t>(object.behind_points);
+    out.phantom_points = static_cast<std::uint32_t>(object.phantom_points);
+    out.transmitted_points = static_cast<std::uint32_t>(object.transmitted_points);
+    out.ambiguous_points = static_cast<std::uint32_t>(object.ambiguous_points);
+    out.undecided_points = static_cast<std::uint32_t>(object.undecided_points);
     const core::TypeEvidence& evidence = object.evidence;
     out.mirrored_points = static_cast<std::uint32_t>(evidence.mirrored_points);
-    out.matched_points = static_cast<std::uint32_t>(evidence.matched_points);
+    out.tested_points = static_cast<std::uint32_t>(evidence.tested_points);
     out.inlier_fraction = evidence.inlier_fraction;
-    out.icp_fitness = evidence.icp_fitness;
-    out.icp_converged = evidence.icp_converged;
-    const Eigen::Affine3f correction(evidence.icp_correction);
-    const Eigen::Quaternionf rotation(correction.rotation());
-    out.icp_correction.translation.x = correction.translation().x();
-    out.icp_correction.translation.y = correction.translation().y();
-    out.icp_correction.translation.z = correction.translation().z();
-    out.icp_correction.rotation.x = rotation.x();
-    out.icp_correction.rotation.y = rotation.y();
-    out.icp_correction.rotation.z = rotation.z();
-    out.icp_correction.rotation.w = rotation.w();
+    out.real_fraction = evidence.real_fraction;
+    out.landing_fitness = evidence.landing_fitness;
+    out.plane_refined = evidence.plane_refined;
+    out.plane_correction = evidence.plane_correction;
     out.mean_surface_intensity = object.mean_surface_intensity;
   }
 }

@@ -1,6 +1,7 @@
 // Tiny hand-made sweeps for the core tests.
 #pragma once
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -43,6 +44,52 @@ inline Eigen::Vector3f ahead(float range)
 inline Eigen::Vector3f filled(float value)
 {
   return Eigen::Vector3f::Constant(value);
+}
+
+// An axis-aligned wall: the points x with x[axis] == at, seen only where `seen(x)` holds.
+struct Wall
+{
+  int axis;
+  float at;
+  bool (*seen)(const Eigen::Vector3f&);
+};
+
+inline bool everywhere(const Eigen::Vector3f&)
+{
+  return true;
+}
+
+// A sweep of a spinning lidar at the origin: 1 degree steps in azimuth (all around) and in
+// elevation (-60 to 60 degrees), each beam's single return on the nearest wall it hits (none:
+// a non-finite point).
+inline core::Sweep rangeImage(const std::vector<Wall>& walls)
+{
+  const float degree = static_cast<float>(M_PI) / 180.0f;
+  core::Sweep sweep;
+  const std::size_t rows = 121, cols = 360;
+  sweep.resize(rows, cols);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c)
+    {
+      const float elevation = (static_cast<float>(r) - 60.0f) * degree;
+      const float azimuth = static_cast<float>(c) * degree;
+      const Eigen::Vector3f direction(std::cos(elevation) * std::cos(azimuth),
+                                      std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      float nearest = std::numeric_limits<float>::infinity();
+      for (const Wall& wall : walls)
+      {
+        const float t = wall.at / direction[wall.axis];
+        if (t > 0.0f && t < nearest && wall.seen(t * direction))
+          nearest = t;
+      }
+      const Eigen::Vector3f point =
+          std::isfinite(nearest) ? Eigen::Vector3f(nearest * direction)
+                               : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+      sweep.echoes[0].points[r * cols + c] = point;
+      sweep.echoes[1].points[r * cols + c] = point;
+    }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return sweep;
 }
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();

@@ -71,8 +71,10 @@ Labelled label(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& ob
     out.labels.echoes[0][i] = before[i].first;
     out.labels.echoes[1][i] = before[i].second;
   }
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, out.labels, Eigen::Vector3f::Zero());
   core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
-      .apply(sweep, Eigen::Vector3f::Zero(), objects, out.labels, out.assignment);
+      .apply(sweep, Eigen::Vector3f::Zero(), evidence, objects, out.labels, out.assignment);
   return out;
 }
 
@@ -92,6 +94,70 @@ TEST(ConeLabelling, LabelsSurfaceAndBehindPointsByTheObjectsType)
     EXPECT_EQ(out.labels.echoes[1][0], c.second.second) << core::objectTypeName(c.first);
     EXPECT_EQ(out.assignment.echoes[0][0], 0);
     EXPECT_EQ(out.assignment.echoes[1][0], 0);
+  }
+}
+
+// A range image: a wall at x = -1 behind the sensor; beyond the surface at x = 2 a wall at
+// x = 5 where y > 0 (reflected across x = 2 it lands on the wall at x = -1: phantoms) and at
+// x = 3.5 where y < 0 (reflected it lands at x = 0.5, in front of the surface, where the sensor
+// saw further, through to the walls behind: real).
+core::Sweep phantomsAndRealPointsBehind()
+{
+  return test::rangeImage({ { 0, -1.0f, test::everywhere },
+                            { 0, 5.0f, [](const Eigen::Vector3f& x) { return x.y() > 0.0f; } },
+                            { 0, 3.5f, [](const Eigen::Vector3f& x) { return x.y() <= 0.0f; } } });
+}
+
+TEST(ConeLabelling, EveryPointBehindIsLabelledByItsOwnEvidence)
+{
+  const core::Sweep sweep = phantomsAndRealPointsBehind();
+  for (ObjectType type : { ObjectType::glass, ObjectType::mirror, ObjectType::unknown })
+  {
+    // 0.6 m high: every reflection lies within the sweep's 60 degrees of elevation.
+    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 0.6f, type) };
+    const Labelled out = label(sweep, objects);
+    std::size_t phantoms = 0, real = 0;
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      if (out.assignment.echoes[0][i] != 0)
+        continue;
+      const Eigen::Vector3f& p = sweep.echoes[0].points[i];
+      const Label expected = p.y() > 0.0f ? Label::behindReflective : Label::behindTransparent;
+      const Label got = out.labels.echoes[0][i];
+      EXPECT_EQ(got, expected) << core::objectTypeName(type) << " at " << p.transpose();
+      phantoms += got == Label::behindReflective ? 1 : 0;
+      real += got == Label::behindTransparent ? 1 : 0;
+    }
+    EXPECT_GT(phantoms, 50u) << core::objectTypeName(type);
+    EXPECT_GT(real, 50u) << core::objectTypeName(type);
+    EXPECT_GE(objects[0].phantom_points, phantoms);
+    EXPECT_GE(objects[0].transmitted_points, real);
+    EXPECT_EQ(objects[0].phantom_points + objects[0].transmitted_points + objects[0].ambiguous_points +
+                  objects[0].undecided_points,
+              objects[0].behind_points);
+  }
+}
+
+TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
+{
+  // Nothing seen in front of the surface: no point behind can be told by itself.
+  const core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
+  const std::pair<ObjectType, Label> cases[] = { { ObjectType::unknown, Label::behindErrorS },
+                                                 { ObjectType::mirror, Label::behindReflective },
+                                                 { ObjectType::glass, Label::behindTransparent } };
+  for (const auto& c : cases)
+  {
+    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, c.first) };
+    const Labelled out = label(sweep, objects);
+    std::size_t behind = 0;
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+      if (out.assignment.echoes[0][i] == 0)
+      {
+        EXPECT_EQ(out.labels.echoes[0][i], c.second) << core::objectTypeName(c.first);
+        ++behind;
+      }
+    EXPECT_GT(behind, 100u);
+    EXPECT_EQ(objects[0].undecided_points, objects[0].behind_points);
   }
 }
 

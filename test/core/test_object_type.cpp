@@ -66,8 +66,10 @@ struct Scene
       sweep_labels.echoes[0][i] = labels[i].first;
       sweep_labels.echoes[1][i] = labels[i].second;
     }
+    core::ReflectionEvidence evidence;
+    evidence.build(sweep, sweep_labels, Eigen::Vector3f::Zero());
     core::ObjectTypeAnalyzer analyzer(core::stageConfigs(core::Params()).object_type);
-    analyzer.analyze(sweep, Eigen::Vector3f::Zero(), sweep_labels, object);
+    analyzer.analyze(sweep, Eigen::Vector3f::Zero(), sweep_labels, evidence, object);
     return object.type;
   }
 };
@@ -87,8 +89,8 @@ TEST(ObjectType, PhantomsThatMirrorOntoTheRealSceneMakeAMirror)
   EXPECT_EQ(scene.analyze(object), ObjectType::mirror);
   EXPECT_GT(object.evidence.mirrored_points, 1000u);
   EXPECT_GT(object.evidence.inlier_fraction, 0.9f);
-  EXPECT_LT(object.evidence.icp_fitness, 0.001f);
-  EXPECT_TRUE(object.evidence.icp_converged);
+  EXPECT_LT(object.evidence.landing_fitness, 0.001f);
+  EXPECT_TRUE(object.evidence.plane_refined);
 }
 
 TEST(ObjectType, RealPointsBehindThatDoNotMirrorOntoTheSceneMakeGlass)
@@ -170,6 +172,52 @@ TEST(ObjectType, OnlyPointsInsideTheVisionConeCount)
   core::ReflectiveObject object = objectAtTwoMetres();
   EXPECT_EQ(scene.analyze(object), ObjectType::unknown);
   EXPECT_EQ(object.evidence.mirrored_points, 0u);
+}
+
+// The type of `object` in a sweep seen from the origin, every point unchecked.
+ObjectType typeIn(const core::Sweep& sweep, core::ReflectiveObject& object)
+{
+  core::SweepLabels labels;
+  labels.reset(sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
+  core::ObjectTypeAnalyzer analyzer(core::stageConfigs(core::Params()).object_type);
+  analyzer.analyze(sweep, Eigen::Vector3f::Zero(), labels, evidence, object);
+  return object.type;
+}
+
+TEST(ObjectType, GlassThatAlsoReflectsIsGlass)
+{
+  // A wall at x = -1 behind the sensor. Behind the pane at x = 2: where y > 0 its reflection in
+  // the pane (at x = 5), where y < 0 a real wall at x = 3.5 seen through it.
+  const core::Sweep sweep =
+      test::rangeImage({ { 0, -1.0f, test::everywhere },
+                         { 0, 5.0f, [](const Eigen::Vector3f& x) { return x.y() > 0.0f; } },
+                         { 0, 3.5f, [](const Eigen::Vector3f& x) { return x.y() <= 0.0f; } } });
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::glass);
+  EXPECT_GT(object.evidence.phantom_points, 100u);
+  EXPECT_GT(object.evidence.transmitted_points, 100u);
+  EXPECT_GT(object.evidence.real_fraction, 0.3f);
+}
+
+TEST(ObjectType, ASurfaceThatOnlyReflectsIsAMirror)
+{
+  // Shiny metal or a mirror: everything behind it is the reflection of the wall at x = -1.
+  const core::Sweep sweep = test::rangeImage({ { 0, -1.0f, test::everywhere }, { 0, 5.0f, test::everywhere } });
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::mirror);
+  EXPECT_EQ(object.evidence.transmitted_points, 0u);
+  EXPECT_TRUE(object.evidence.plane_refined);
+}
+
+TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)
+{
+  // Only the wall behind the surface was seen: no point behind it can be told by itself.
+  const core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::unknown);
+  EXPECT_GT(object.evidence.undecided_points, 100u);
 }
 
 }  // namespace

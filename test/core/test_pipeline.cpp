@@ -116,8 +116,8 @@ public:
   {
   }
   const char* name() const override { return name_.c_str(); }
-  void process(const core::Sweep& sweep, const core::SweepContext& context, core::SweepLabels& labels,
-               std::vector<core::ReflectiveObject>& objects) override
+  void process(const core::Sweep& sweep, const core::SweepContext& context, const core::ReflectionEvidence&,
+               core::SweepLabels& labels, std::vector<core::ReflectiveObject>& objects) override
   {
     log_.push_back(name_ + " saw " + std::to_string(objects.size()) + " object(s), " +
                    std::to_string(labels.echoes[0].size()) + " of " + std::to_string(sweep.beamCount()) +

@@ -6,7 +6,7 @@ recorded in digests.json as it is; test/python/test_golden_outputs.py checks tha
 meant to change behaviour re-records them (`golden.py record`) and says so in its commit.
 
 The digests are per platform (distribution release and architecture, see platform_key): another
-compiler, PCL or Eigen rounds differently in the last bit, and the ICP evidence and refined mirror
+compiler, PCL or Eigen rounds differently in the last bit, and the type evidence and refined mirror
 planes show it. Debian 12 (make test) and Debian 11 (make test-compat's chroot; re-record there with
 `COMPAT_RECORD_GOLDEN=1 make test-compat`) are recorded; elsewhere the test is skipped, saying so.
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
@@ -36,13 +37,19 @@ public:
 
   // Labels every point that is not nanPoint: on the surface of an object (within
   // plane_threshold, inside its vision cone from sensor_origin grown by cone_margin) or behind
-  // it gets the object's surface or behind label (errorSurface/behindErrorS,
-  // reflectiveSurface/behindReflective, transparentSurface/behindTransparent by type). Where
-  // cones overlap the surface nearest to the sensor wins. Points outside every cone (or in
-  // front of the surface) become valid, except `error` points, which stay error. Fills each
-  // object's surface_points, behind_points and mean_surface_intensity.
-  void apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, std::vector<ReflectiveObject>& objects,
-             SweepLabels& labels, ObjectAssignment& assignment) const;
+  // it. A point on the surface gets the object's surface label by its type (errorSurface,
+  // reflectiveSurface, transparentSurface). A point behind is labelled by its own evidence
+  // (evidence.test with the object's plane and landing tolerance): behindReflective when,
+  // reflected across the plane, it lands on what the sensor saw in front (a phantom),
+  // behindTransparent when the sensor saw through where it lands (real, seen through the
+  // surface); a point without evidence of its own (ambiguous, occluded, out of view, no return)
+  // takes the object's type (behindReflective behind a mirror, behindTransparent behind glass,
+  // behindErrorS behind an unknown surface). Where cones overlap the surface nearest to the
+  // sensor wins. Points outside every cone (or in front of the surface) become valid, except
+  // `error` points, which stay error. Fills each object's surface_points, behind_points, the
+  // counts of what the points behind said, and mean_surface_intensity.
+  void apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const ReflectionEvidence& evidence,
+             std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment) const;
 
 private:
   float plane_threshold_;

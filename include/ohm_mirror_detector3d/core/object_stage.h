@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 #include "ohm_mirror_detector3d/core/sweep_context.h"
@@ -24,13 +25,16 @@ public:
 
   // Called once per sweep, after the detect phase and the object stages before it. `labels`
   // hold the detect phase's evidence per point (nanPoint: gated or outlier; errorSurface / error:
-  // near and far echo of a discontinuous beam; unchecked: everything else); `objects` are the
-  // objects so far (plane, rectangle, type, evidence, surface_inliers). A stage may change,
-  // add or remove objects and change labels; the cone labelling then labels the sweep by the
-  // objects it leaves, from context.sensorOrigin(). Objects keep their index as id (the
-  // stage renumbers what it adds or removes).
-  virtual void process(const Sweep& sweep, const SweepContext& context, SweepLabels& labels,
-                       std::vector<ReflectiveObject>& objects) = 0;
+  // near and far echo of a discontinuous beam; unchecked: everything else); `evidence` answers
+  // for any point behind any plane whether, reflected across it, it lands on what the sensor
+  // saw (reflection_evidence.h; the test the type decision and the cone labelling use);
+  // `objects` are the objects so far (plane, rectangle, type, evidence, landing tolerance,
+  // surface_inliers). A stage may change, add or remove objects and change labels; the cone
+  // labelling then labels the sweep by the objects it leaves, from context.sensorOrigin(), each
+  // point behind by its own evidence against its object's plane. Objects keep their index as id
+  // (the stage renumbers what it adds or removes).
+  virtual void process(const Sweep& sweep, const SweepContext& context, const ReflectionEvidence& evidence,
+                       SweepLabels& labels, std::vector<ReflectiveObject>& objects) = 0;
 };
 
 }  // namespace core

@@ -1,10 +1,13 @@
-// Stage analyzeObjectType of the paper: mirror or glass, by registering the mirrored
-// points behind the plane to the real scene in front of it.
+// Stage analyzeObjectType of the paper: mirror or glass, from what the points behind the plane
+// say one by one when reflected across it (reflection_evidence.h), instead of the paper's ICP
+// of all of them at once.
 #pragma once
 
 #include <Eigen/Core>
 #include <memory>
 
+#include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
+#include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
@@ -16,10 +19,10 @@ struct ObjectTypeConfig
 {
   double plane_threshold;          // d_thres_plane [m]: half thickness of the surface
   double cone_margin;              // d_thres_visionCone [m]: growth of the vision cone
-  double icp_max_distance;         // [m]
-  double icp_fitness_threshold;    // [m^2]
-  int icp_min_points;
-  double icp_min_inlier_fraction;
+  double icp_max_distance;         // [m]: landing tolerance at the sensor, reach of the plane refinement
+  double icp_fitness_threshold;    // [m^2]: mean squared landing distance of a mirror's phantoms
+  int icp_min_points;              // fewest phantoms to refine a plane, and decided points to type it
+  double icp_min_inlier_fraction;  // share of the decided points that must be phantoms for a mirror
 };
 
 class ObjectTypeAnalyzer
@@ -30,30 +33,26 @@ public:
   ObjectTypeAnalyzer(ObjectTypeAnalyzer&&) noexcept;
   ObjectTypeAnalyzer& operator=(ObjectTypeAnalyzer&&) noexcept;
 
-  // Reflects the points behind the object (inside its vision cone from sensor_origin, both
-  // echoes, nanPoint excluded) across its plane and registers them by ICP (max correspondence distance
-  // icp_max_distance) to the real points in front of the plane near where they land
-  // (labels unchecked or valid; error and errorSurface points are echoes of this or
-  // another surface, not real geometry). For speed (see object_type.cpp) the registered
-  // points are an even, deterministic sample of at most 512 of them, and the real scene is
-  // taken only near where that sample lands, one point per 2 cm voxel; the shares and means
-  // below are the sample's, matched_points is the sample's share times mirrored_points.
-  // Sets object.type and object.evidence:
-  // - unknown when fewer than icp_min_points points are behind it, or when the sensor saw
-  //   fewer than that many real points in the directions where the mirrored points land
-  //   (nothing to compare with, e.g. a mirror facing open space: no confident decision);
-  // - mirror when ICP converged, at least icp_min_inlier_fraction of the mirrored points lie
-  //   within icp_max_distance of a real point after ICP, their mean squared distance is at
-  //   most icp_fitness_threshold, and ICP moved them only a little (a real mirror's phantoms
-  //   land on the real scene already: a large correction means ICP fitted something else);
-  //   the mirror's plane is then refined to the pure reflection nearest to what ICP found,
-  //   which back-projects phantoms far more accurately than the plane of the surface echoes;
-  // - glass when fewer than half of icp_min_inlier_fraction match, before and after ICP: the
-  //   sensor looked where the mirrored points land and saw something else there (free space
-  //   or other geometry);
-  // - unknown in between: ambiguous evidence is not turned into a confident call.
+  // Decides the object's type from what its points behind say (ReflectionEvidence): the points
+  // behind it (inside its vision cone from sensor_origin, both echoes, nanPoint excluded), an
+  // even sample of at most 512 of them, each reflected across the plane and tested against
+  // what the sensor saw in front (tolerance icp_max_distance, growing with range and the
+  // plane's uncertainty). Sets object.landing_tolerance, object.type and object.evidence:
+  // - when at least icp_min_points of them (estimated) land on seen geometry, the plane is
+  //   first refined so that they land exactly (a mirror's, shiny metal's or reflecting glass's
+  //   plane, fitted to its surface echoes, is good to a few tenths of a degree; reflection
+  //   multiplies that by the distance behind), and the sample tested again;
+  // - unknown when fewer than icp_min_points of the points inside its rectangle (away from its
+  //   border, where points beside the surface are seen through the grown cone) are phantoms or
+  //   real (transmitted, or, only when too few are transmitted or phantoms, occluded: their
+  //   reflection lies behind what the sensor saw there, where no mirror in the same room could
+  //   show anything): nothing to tell (a mirror facing open space);
+  // - glass when a clear share of those is real: the surface lets the sensor through
+  //   (reflections in it are its phantoms; a pane at an oblique angle has many);
+  // - mirror otherwise, if its phantoms land within icp_fitness_threshold (mean squared) of what
+  //   the sensor saw; unknown if not.
   void analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
-               ReflectiveObject& object);
+               const ReflectionEvidence& evidence, ReflectiveObject& object);
 
   // Optional, for speed: bounding boxes of blocks of 64 beams of this sweep, so that analyze()
   // skips blocks that cannot hold a point it looks for (same result). Valid for this sweep
@@ -61,6 +60,10 @@ public:
   void beginSweep(const Sweep& sweep);
 
 private:
+  // Refines object's plane from buffers_->landed (points behind that land on seen geometry).
+  PlaneRefinement refinePlane(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
+                              double weight, ReflectiveObject& object);
+
   ObjectTypeConfig config_;
   struct Buffers;
   std::unique_ptr<Buffers> buffers_;

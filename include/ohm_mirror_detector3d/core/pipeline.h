@@ -1,6 +1,6 @@
 // The pre-filter of one sweep (Algorithm 1 of the paper) in three phases:
-//   detect: range gate, outlier filter, echo comparison, object extraction, type decision
-//     (the objects and the per-point evidence behind them);
+//   detect: range gate, outlier filter, echo comparison, object extraction, the per-point
+//     evidence (reflection_evidence.h), type decision (the objects and why);
 //   object stages: an ordered list of optional stages on whole objects (object_stage.h;
 //     none by default);
 //   label: cone labelling, cleaned output with back-projection.
@@ -21,6 +21,7 @@
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
 #include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
+#include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
@@ -106,6 +107,11 @@ private:
 
   Params params_;
   Stages stages_;
+  // The per-point evidence of the current sweep: built once per sweep, when the first stage
+  // needs it (an object found, or object stages to run).
+  const ReflectionEvidence& evidence(const Sweep& sweep, const Eigen::Vector3f& sensor_origin);
+  ReflectionEvidence evidence_;
+  bool evidence_built_ = false;
   std::vector<std::unique_ptr<ObjectStage>> object_stages_;
   PipelineResult result_;
 };

@@ -16,22 +16,46 @@ namespace core
 enum class ObjectType : std::uint8_t
 {
   unknown = 0,  // discontinuous echoes on a plane, too little evidence to decide
-  mirror = 1,   // the points behind the plane are a reflection of the scene in front of it
-  glass = 2,    // the points behind the plane are real
+  mirror = 1,   // reflects and transmits nothing: the points behind it are phantoms (also shiny metal)
+  glass = 2,    // the sensor sees through it (and may see reflections in it too)
 };
 
 const char* objectTypeName(ObjectType type);
 
-// Why the type decision came out as it did (see analyzeObjectType).
+// How far from the surface the sensor saw in its direction a point reflected across an object's
+// plane (q) may lie and still lie on it [m]: base + per metre of q's range (noise, sampling) +
+// per metre the point lies behind the plane (the plane's angular uncertainty: an error of the
+// plane's tilt moves q by twice the tilt times the distance behind).
+struct LandingTolerance
+{
+  float base = 0.1f;
+  float per_range = 0.005f;
+  float per_behind = 0.0f;
+
+  float at(float range, float behind) const { return base + per_range * range + per_behind * behind; }
+};
+
+// Why the type decision came out as it did (object_type.h): what the points behind the object
+// said, on an even sample of at most 512 of them, the counts scaled to all of them.
 struct TypeEvidence
 {
-  std::size_t mirrored_points = 0;  // points behind the plane reflected across it
-  std::size_t matched_points = 0;   // of those, within icp_max_distance of the real scene after ICP
-                                    // (estimated on a sample of at most 512 of them)
+  std::size_t mirrored_points = 0;     // points behind the plane (inside its vision cone), reflected across it
+  std::size_t tested_points = 0;       // of those, the sample whose reflections were tested
+  std::size_t phantom_points = 0;      // estimated: land on geometry seen in front
+  std::size_t transmitted_points = 0;  // estimated: seen through (what lies where they land is further away)
+  std::size_t ambiguous_points = 0;    // estimated: land on a surface that continues through the plane
+  std::size_t undecided_points = 0;    // estimated: where they land is occluded, out of view, or without return
+  // Share of the tested points that land on what the sensor saw (phantoms and ambiguous).
   float inlier_fraction = std::numeric_limits<float>::quiet_NaN();
-  float icp_fitness = std::numeric_limits<float>::quiet_NaN();  // mean squared distance of matches [m^2]
-  bool icp_converged = false;
-  Eigen::Matrix4f icp_correction = Eigen::Matrix4f::Identity();
+  // Share of the real points (transmitted; occluded too when few are transmitted or phantoms)
+  // among the phantoms and real points inside the rectangle (away from its border, where points
+  // beside the surface are seen): what types it.
+  float real_fraction = std::numeric_limits<float>::quiet_NaN();
+  // Mean squared distance between the sampled phantoms and what the sensor saw where they land [m^2].
+  float landing_fitness = std::numeric_limits<float>::quiet_NaN();
+  // Whether the plane was refined from the phantoms, and by how much it turned [rad].
+  bool plane_refined = false;
+  float plane_correction = 0.0f;
 };
 
 struct ReflectiveObject
@@ -54,10 +78,21 @@ struct ReflectiveObject
   // The errorSurface points the plane was fitted to.
   std::vector<PointRef> surface_inliers;
 
-  // Filled by cone labelling: points of both echoes on the surface and behind it.
+  // Filled by cone labelling: points of both echoes on the surface and behind it, and what the
+  // points behind said each (ReflectionOutcome): phantoms, transmitted, landing on a surface
+  // that continues through the plane, and the rest (occluded, out of view, no return).
   std::size_t surface_points = 0;
   std::size_t behind_points = 0;
+  std::size_t phantom_points = 0;
+  std::size_t transmitted_points = 0;
+  std::size_t ambiguous_points = 0;
+  std::size_t undecided_points = 0;
   float mean_surface_intensity = std::numeric_limits<float>::quiet_NaN();
+
+  // How far from what the sensor saw a point behind may land, reflected across the plane, and
+  // still land on it: set by the type decision (from icp_max_distance and the plane's
+  // uncertainty); the cone labelling tests every point behind with it.
+  LandingTolerance landing_tolerance;
 
   TypeEvidence evidence;
 

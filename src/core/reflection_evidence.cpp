@@ -1,0 +1,456 @@
+#include "ohm_mirror_detector3d/core/reflection_evidence.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+namespace
+{
+// Directions are binned on a cube map: the face of a direction's largest coordinate, and on it
+// the other two divided by that one (gnomonic coordinates in [-1, 1]), in square cells. A cell
+// is as wide as the search window at a face centre and narrower towards the edges (the window
+// then spans more cells); no trigonometry per point.
+constexpr std::uint32_t kMaxCellsPerSide = 512;
+
+// The window around a direction: this many of the sweep's coarser angular steps, so that the
+// nearest return on every side of the direction is inside it.
+constexpr float kWindowSteps = 1.25f;
+
+// Neighbouring returns along a row or a column are looked for this many beams ahead (a
+// dual-return grid finer than the lidar's azimuth step leaves empty cells between them), in a
+// sample of about this many beams per axis.
+constexpr std::size_t kNeighbourSearch = 8;
+constexpr std::size_t kStepSamplesPerAxis = 64;
+// A sweep without columns (one row: an unorganised cloud) has its neighbouring scan line
+// somewhere further along the row: the nearest return among this many beams beyond the row
+// neighbours is taken for it (a scan line of up to 4096 beams).
+constexpr std::size_t kMaxLineLag = 4096;
+// Steps outside this range are no sweep's sampling (a repeated return, a jump across the grid).
+constexpr float kMinStep = 1e-5f;
+constexpr float kMaxStep = 10.0f * static_cast<float>(M_PI) / 180.0f;
+
+constexpr std::size_t kMaxCandidates = 128;
+
+// A surface seen at up to 80 degrees from its normal changes its range by up to tan(80 deg)
+// times range times angle: returns that differ by more than that lie on different surfaces.
+constexpr float kMaxGrazingSlope = 5.67f;
+
+// A surface whose normal is within this of being perpendicular to the plane (sin of 15 deg)
+// is taken to map onto itself under the reflection: the normal of a few returns a beam step
+// apart is no more precise than that.
+constexpr float kSelfSymmetricNormal = 0.2588f;
+// A neighbourhood is a surface (and its normal trustworthy) when its covariance is not a line
+// and is flat (ratios of ascending eigenvalues).
+constexpr float kMinSurfaceSpread = 0.05f;
+constexpr float kMaxSurfaceThickness = 0.25f;
+constexpr std::size_t kMinSurfaceCandidates = 4;
+
+float median(std::vector<float>& values)
+{
+  if (values.empty())
+    return 0.0f;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+float angleBetween(const Eigen::Vector3f& a, const Eigen::Vector3f& b)
+{
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+// Keys of the index: the cube-map cell of a point's direction from the origin (the points are
+// written relative to it), numbered (face * n + u) * n + v.
+struct DirectionCells
+{
+  float inverse_cell;
+  std::uint32_t n;
+
+  std::uint64_t key(float x, float y, float z) const
+  {
+    const float ax = std::fabs(x), ay = std::fabs(y), az = std::fabs(z);
+    int face;
+    float major, u, v;
+    if (ax >= ay && ax >= az)
+    {
+      face = x > 0.0f ? 1 : 0;
+      major = ax;
+      u = y;
+      v = z;
+    }
+    else if (ay >= az)
+    {
+      face = y > 0.0f ? 3 : 2;
+      major = ay;
+      u = z;
+      v = x;
+    }
+    else
+    {
+      face = z > 0.0f ? 5 : 4;
+      major = az;
+      u = x;
+      v = y;
+    }
+    const float inverse_major = major > 0.0f ? 1.0f / major : 0.0f;
+    return cell(face, u * inverse_major, v * inverse_major);
+  }
+
+  std::uint32_t axisCell(float coordinate) const
+  {
+    const float c = (coordinate + 1.0f) * inverse_cell;
+    return static_cast<std::uint32_t>(std::min(std::max(c, 0.0f), static_cast<float>(n - 1)));
+  }
+  std::uint64_t cell(int face, float u, float v) const
+  {
+    return (static_cast<std::uint64_t>(face) * n + axisCell(u)) * n + axisCell(v);
+  }
+};
+
+// Axes (major, u, v) of each face, as DirectionCells::key numbers them.
+constexpr int kFaceAxes[6][3] = { { 0, 1, 2 }, { 0, 1, 2 }, { 1, 2, 0 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 0, 1 } };
+}  // namespace
+
+const char* reflectionOutcomeName(ReflectionOutcome outcome)
+{
+  switch (outcome)
+  {
+    case ReflectionOutcome::noReturn: return "noReturn";
+    case ReflectionOutcome::occluded: return "occluded";
+    case ReflectionOutcome::phantom: return "phantom";
+    case ReflectionOutcome::ambiguous: return "ambiguous";
+    case ReflectionOutcome::transmitted: return "transmitted";
+  }
+  return "invalid-outcome";
+}
+
+void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin)
+{
+  origin_ = sensor_origin;
+  step_ = 0.0f;
+  index_.reservePoints(0);
+  index_.setPointCount(0);
+  const std::size_t beams = sweep.beamCount();
+  const std::vector<Eigen::Vector3f>& first = sweep.echoes[0].points;
+  auto usable = [&](std::size_t i) { return labels.echoes[0][i] != Label::nanPoint && first[i].allFinite(); };
+
+  // The sweep's angular steps: along a row (the next return within a few columns) and along a
+  // column (the next within a few rows; in a sweep of one row, the nearest return beyond the
+  // row neighbours), medians over a sample of beams.
+  row_angles_.clear();
+  column_angles_.clear();
+  const std::size_t row_stride = std::max<std::size_t>(1, sweep.rows / kStepSamplesPerAxis);
+  const std::size_t column_stride = std::max<std::size_t>(1, sweep.cols / kStepSamplesPerAxis);
+  for (std::size_t r = 0; r < sweep.rows; r += row_stride)
+    for (std::size_t c = 0; c < sweep.cols; c += column_stride)
+    {
+      const std::size_t i = r * sweep.cols + c;
+      if (!usable(i))
+        continue;
+      const Eigen::Vector3f from = first[i] - origin_;
+      for (std::size_t k = 1; k <= kNeighbourSearch && c + k < sweep.cols; ++k)
+        if (usable(i + k))
+        {
+          row_angles_.push_back(angleBetween(from, first[i + k] - origin_));
+          break;
+        }
+      for (std::size_t k = 1; k <= kNeighbourSearch && r + k < sweep.rows; ++k)
+        if (usable(i + k * sweep.cols))
+        {
+          column_angles_.push_back(angleBetween(from, first[i + k * sweep.cols] - origin_));
+          break;
+        }
+    }
+  if (column_angles_.empty())
+    for (std::size_t c = 0; c < sweep.cols; c += column_stride)
+    {
+      if (!usable(c))
+        continue;
+      // The largest cosine, as cos^2 of the returns in the same half space (no square root per return).
+      const Eigen::Vector3f from = (first[c] - origin_).normalized();
+      float best_squared_cosine = -1.0f;
+      const std::size_t end = std::min(sweep.cols, c + kNeighbourSearch + kMaxLineLag);
+      for (std::size_t j = c + kNeighbourSearch + 1; j < end; ++j)
+      {
+        if (!usable(j))
+          continue;
+        const Eigen::Vector3f x = first[j] - origin_;
+        const float along = from.dot(x);
+        if (along > 0.0f)
+          best_squared_cosine = std::max(best_squared_cosine, along * along / x.squaredNorm());
+      }
+      if (best_squared_cosine > 0.0f)
+        column_angles_.push_back(std::acos(std::min(1.0f, std::sqrt(best_squared_cosine))));
+    }
+  auto implausible = [](float a) { return !(a >= kMinStep && a <= kMaxStep); };
+  row_angles_.erase(std::remove_if(row_angles_.begin(), row_angles_.end(), implausible), row_angles_.end());
+  column_angles_.erase(std::remove_if(column_angles_.begin(), column_angles_.end(), implausible), column_angles_.end());
+  step_ = std::max(median(row_angles_), median(column_angles_));
+  if (!(step_ > 0.0f))
+  {
+    step_ = 0.0f;
+    return;
+  }
+  radius_ = kWindowSteps * step_;
+  cells_per_side_ = std::min(kMaxCellsPerSide, static_cast<std::uint32_t>(std::ceil(2.0f / radius_)));
+  cell_ = 2.0f / static_cast<float>(cells_per_side_);
+  inverse_cell_ = 1.0f / cell_;
+
+  index_.reservePoints(2 * beams);
+  float* xs = index_.pointX();
+  float* ys = index_.pointY();
+  float* zs = index_.pointZ();
+  std::uint32_t* ids = index_.pointId();
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < 2; ++k)
+  {
+    const std::vector<Eigen::Vector3f>& points = sweep.echoes[k].points;
+    for (std::size_t i = 0; i < beams; ++i)
+    {
+      if (labels.echoes[k][i] == Label::nanPoint || !points[i].allFinite() || (k == 1 && points[i] == first[i]))
+        continue;
+      const Eigen::Vector3f x = points[i] - origin_;
+      xs[count] = x.x();
+      ys[count] = x.y();
+      zs[count] = x.z();
+      ids[count] = static_cast<std::uint32_t>(k * beams + i);
+      ++count;
+    }
+  }
+  index_.setPointCount(count);
+  SpatialIndex::Options options;
+  options.lookup = true;
+  options.dense_cells = 6 * static_cast<std::size_t>(cells_per_side_) * cells_per_side_;
+  index_.build(DirectionCells{ inverse_cell_, cells_per_side_ }, options);
+}
+
+template <typename Visit>
+void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, Visit visit) const
+{
+  const DirectionCells cells{ inverse_cell_, cells_per_side_ };
+  const float* xs = index_.sortedX();
+  const float* ys = index_.sortedY();
+  const float* zs = index_.sortedZ();
+  // Every face the window reaches: in gnomonic coordinates (u, v) of a face, an angle `radius_`
+  // around the direction spans about radius * (1 + u^2 + v^2) / sqrt(1 + v^2) along u (and
+  // likewise along v); a tenth more covers the curvature over the window.
+  for (int face = 0; face < 6; ++face)
+  {
+    const int* axes = kFaceAxes[face];
+    const float major = (face & 1) ? direction[axes[0]] : -direction[axes[0]];
+    if (!(major > 0.0f))
+      continue;
+    const float u = direction[axes[1]] / major;
+    const float v = direction[axes[2]] / major;
+    const float stretch = 1.1f * radius_ * (1.0f + u * u + v * v);
+    const float half_u = stretch / std::sqrt(1.0f + v * v);
+    const float half_v = stretch / std::sqrt(1.0f + u * u);
+    if (u - half_u > 1.0f || u + half_u < -1.0f || v - half_v > 1.0f || v + half_v < -1.0f)
+      continue;
+    const std::uint32_t u_low = cells.axisCell(u - half_u), u_high = cells.axisCell(u + half_u);
+    const std::uint32_t v_low = cells.axisCell(v - half_v), v_high = cells.axisCell(v + half_v);
+    for (std::uint32_t cu = u_low; cu <= u_high; ++cu)
+    {
+      const std::uint64_t row = (static_cast<std::uint64_t>(face) * cells_per_side_ + cu) * cells_per_side_;
+      for (std::uint32_t cv = v_low; cv <= v_high; ++cv)
+      {
+        const SpatialIndex::Range points = index_.cellPoints(row + cv);
+        for (std::uint32_t j = points.begin; j < points.end; ++j)
+          visit(Eigen::Vector3f(xs[j], ys[j], zs[j]));
+      }
+    }
+  }
+}
+
+ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p,
+                                        const LandingTolerance& tolerance) const
+{
+  ReflectionTest result;
+  result.range_difference = std::numeric_limits<float>::quiet_NaN();
+  if (step_ == 0.0f || index_.pointCount() == 0)
+    return result;
+  const Eigen::Vector3f normal = plane.head<3>();
+  const float side = normal.dot(p) + plane[3];
+  const Eigen::Vector3f q = p - 2.0f * side * normal - origin_;
+  const float range = q.norm();
+  if (!(range > 0.0f))
+    return result;
+  const float behind = -side;
+  const float tol = tolerance.at(range, behind);
+  const Eigen::Vector3f along = q / range;
+  const Eigen::Vector3f helper = std::fabs(along.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
+  const Eigen::Vector3f e1 = along.cross(helper).normalized();
+  const Eigen::Vector3f e2 = along.cross(e1);
+
+  // The returns within the window, in q's tangent basis; the nearest in each quadrant around
+  // q's direction are the corners of the patch of range image that q's direction falls in.
+  struct Candidate
+  {
+    float a, b, depth, range;
+    Eigen::Vector3f point;
+  };
+  std::array<Candidate, kMaxCandidates> candidates;
+  std::size_t count = 0;
+  std::array<int, 4> nearest = { -1, -1, -1, -1 };
+  std::array<float, 4> nearest_offset = { 0.0f, 0.0f, 0.0f, 0.0f };
+  const float radius_squared = radius_ * radius_;
+  forEachNear(q, [&](const Eigen::Vector3f& x) {
+    const float depth = x.dot(along);
+    if (!(depth > 0.0f) || count == kMaxCandidates)
+      return;
+    const float inverse_depth = 1.0f / depth;
+    const float a = x.dot(e1) * inverse_depth;
+    const float b = x.dot(e2) * inverse_depth;
+    const float offset = a * a + b * b;
+    if (offset > radius_squared)
+      return;
+    const int quadrant = (a >= 0.0f ? 1 : 0) + (b >= 0.0f ? 2 : 0);
+    if (nearest[quadrant] < 0 || offset < nearest_offset[quadrant])
+    {
+      nearest[quadrant] = static_cast<int>(count);
+      nearest_offset[quadrant] = offset;
+    }
+    candidates[count++] = Candidate{ a, b, depth, x.norm(), x };
+  });
+  std::array<int, 4> corners;
+  std::size_t corner_count = 0;
+  for (int k : nearest)
+    if (k >= 0)
+      corners[corner_count++] = k;
+  if (corner_count == 0)
+    return result;
+
+  // One surface when the corners' ranges differ by no more than a surface seen at up to 80
+  // degrees could across their spread of directions.
+  float low = std::numeric_limits<float>::infinity(), high = -low, widest = 0.0f;
+  int closest = corners[0];
+  for (std::size_t k = 0; k < corner_count; ++k)
+  {
+    const Candidate& c = candidates[static_cast<std::size_t>(corners[k])];
+    low = std::min(low, c.range);
+    high = std::max(high, c.range);
+    const float offset = c.a * c.a + c.b * c.b;
+    widest = std::max(widest, offset);
+    const Candidate& best = candidates[static_cast<std::size_t>(closest)];
+    if (offset < best.a * best.a + best.b * best.b)
+      closest = corners[k];
+  }
+  const float spread = 2.0f * std::sqrt(widest) + step_;
+  const bool one_surface = high - low <= tol + kMaxGrazingSlope * range * spread;
+
+  // On one surface: the range in q's direction from the plane through the corners. For a plane
+  // the reciprocal depth along q's direction is exactly linear in (a, b), so a least-squares fit
+  // of 1 / depth = w0 + wa a + wb b over the corners gives it (1 / w0) even at grazing incidence.
+  bool fitted = false;
+  Eigen::Vector3d fit = Eigen::Vector3d::Zero();
+  if (one_surface && corner_count >= 3)
+  {
+    Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d right = Eigen::Vector3d::Zero();
+    const double scale = 1.0 / radius_;  // (a, b) in units of the window: a well-scaled system
+    for (std::size_t k = 0; k < corner_count; ++k)
+    {
+      const Candidate& c = candidates[static_cast<std::size_t>(corners[k])];
+      const Eigen::Vector3d row(1.0, c.a * scale, c.b * scale);
+      normal_matrix += row * row.transpose();
+      right += row / static_cast<double>(c.depth);
+    }
+    if (std::fabs(normal_matrix.determinant()) > 1e-3)
+    {
+      fit = normal_matrix.inverse() * right;
+      fit.tail<2>() *= scale;
+      fitted = fit[0] > 0.0;
+    }
+  }
+
+  float seen = 0.0f;  // range of what the sensor saw in q's direction
+  if (one_surface)
+  {
+    seen = fitted ? static_cast<float>(1.0 / fit[0]) : candidates[static_cast<std::size_t>(closest)].range;
+    const float difference = seen - range;
+    result.range_difference = difference;
+    result.outcome = difference > tol  ? ReflectionOutcome::transmitted :
+                     difference < -tol ? ReflectionOutcome::occluded :
+                                         ReflectionOutcome::phantom;
+  }
+  else
+  {
+    // A depth edge runs through the patch: q is on the far side of it when every corner is
+    // beyond q (seen through), on a surface when a corner is at q's range, else behind the near
+    // side (not seen).
+    bool all_beyond = true;
+    float best = std::numeric_limits<float>::infinity();
+    for (std::size_t k = 0; k < corner_count; ++k)
+    {
+      const float difference = candidates[static_cast<std::size_t>(corners[k])].range - range;
+      all_beyond = all_beyond && difference > tol;
+      if (std::fabs(difference) < std::fabs(best))
+        best = difference;
+    }
+    result.range_difference = best;
+    result.outcome = all_beyond            ? ReflectionOutcome::transmitted :
+                     std::fabs(best) <= tol ? ReflectionOutcome::phantom :
+                                              ReflectionOutcome::occluded;
+    seen = range + best;
+  }
+  if (result.outcome != ReflectionOutcome::phantom)
+    return result;
+
+  // q lies on a surface. If that surface is perpendicular to the plane, the reflection maps it
+  // onto itself: a real point on it behind the plane (the floor seen through glass) would land
+  // here as well as a phantom of it (the floor seen in a mirror). Its normal comes from the
+  // corners' fit (the plane through the returns around q's direction), else from the returns
+  // around q on it (their covariance; slower, so only without a fit); without either its
+  // orientation is unknown and so is the answer.
+  Eigen::Vector3f surface_normal = Eigen::Vector3f::Zero();
+  if (fitted)
+    surface_normal =
+        (static_cast<float>(fit[0]) * along + static_cast<float>(fit[1]) * e1 + static_cast<float>(fit[2]) * e2)
+            .normalized();
+  else
+  {
+    auto onSurface = [&](const Candidate& c) {
+      return std::fabs(c.range - seen) <= tol + kMaxGrazingSlope * seen * std::sqrt(c.a * c.a + c.b * c.b);
+    };
+    Eigen::Vector3f mean = Eigen::Vector3f::Zero();
+    std::size_t on_surface = 0;
+    for (std::size_t k = 0; k < count; ++k)
+      if (onSurface(candidates[k]))
+      {
+        mean += candidates[k].point;
+        ++on_surface;
+      }
+    if (on_surface >= kMinSurfaceCandidates)
+    {
+      mean /= static_cast<float>(on_surface);
+      Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();
+      for (std::size_t k = 0; k < count; ++k)
+        if (onSurface(candidates[k]))
+        {
+          const Eigen::Vector3f d = candidates[k].point - mean;
+          covariance += d * d.transpose();
+        }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
+      solver.computeDirect(covariance);
+      const Eigen::Vector3f spread_values = solver.eigenvalues();
+      if (spread_values[1] >= kMinSurfaceSpread * spread_values[2] &&
+          spread_values[0] <= kMaxSurfaceThickness * spread_values[1])
+        surface_normal = solver.eigenvectors().col(0);
+    }
+  }
+  // Exactly: a real point on that surface behind the plane lands within tol when twice its
+  // distance behind times |n_surface . n| is below tol; the normal's own uncertainty widens it.
+  const float symmetric = std::max(kSelfSymmetricNormal, behind > 0.0f ? tol / (2.0f * behind) : 1.0f);
+  if (surface_normal.isZero() || std::fabs(surface_normal.dot(normal)) <= symmetric)
+    result.outcome = ReflectionOutcome::ambiguous;
+  return result;
+}
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d

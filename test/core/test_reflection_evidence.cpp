@@ -1,0 +1,124 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/reflection_evidence.h"
+#include "sweep_fixtures.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace
+{
+using core::ReflectionOutcome;
+
+using test::everywhere;
+using test::rangeImage;
+using test::Wall;
+
+constexpr float kDegree = static_cast<float>(M_PI) / 180.0f;
+
+core::ReflectionEvidence evidenceOf(const core::Sweep& sweep)
+{
+  core::SweepLabels labels;
+  labels.reset(sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
+  return evidence;
+}
+
+// A surface in the plane x = 2, facing the sensor at the origin.
+const Eigen::Vector4f kPlane(-1.0f, 0.0f, 0.0f, 2.0f);
+const core::LandingTolerance kTolerance;
+
+// A point 3 m behind the surface, 0.3 m above the sensor: reflected, it lands at x = -1.
+const Eigen::Vector3f kBehind(5.0f, 0.4f, 0.3f);
+
+TEST(ReflectionEvidence, TheAngularStepIsTheSweepsOwn)
+{
+  const core::ReflectionEvidence evidence = evidenceOf(rangeImage({ { 0, -1.0f, everywhere }, { 0, 4.0f, everywhere } }));
+  EXPECT_NEAR(evidence.angularStep(), 1.0f * kDegree, 0.05f * kDegree);
+}
+
+TEST(ReflectionEvidence, APointThatLandsOnWhatTheSensorSawInFrontIsAPhantom)
+{
+  // The sensor saw a wall at x = -1: exactly where the point lands.
+  const core::ReflectionEvidence evidence = evidenceOf(rangeImage({ { 0, -1.0f, everywhere } }));
+  const core::ReflectionTest test = evidence.test(kPlane, kBehind, kTolerance);
+  EXPECT_EQ(test.outcome, ReflectionOutcome::phantom) << core::reflectionOutcomeName(test.outcome);
+  EXPECT_LT(std::fabs(test.range_difference), 0.02f);
+}
+
+TEST(ReflectionEvidence, APointWhereTheSensorSawFurtherIsSeenThrough)
+{
+  // The sensor saw through where the point would land, to a wall at x = -3: the point is real.
+  const core::ReflectionEvidence evidence = evidenceOf(rangeImage({ { 0, -3.0f, everywhere } }));
+  const core::ReflectionTest test = evidence.test(kPlane, kBehind, kTolerance);
+  EXPECT_EQ(test.outcome, ReflectionOutcome::transmitted) << core::reflectionOutcomeName(test.outcome);
+  EXPECT_GT(test.range_difference, 1.5f);
+}
+
+TEST(ReflectionEvidence, APointWhereTheSensorSawNearerCannotBeTold)
+{
+  // A wall at x = -0.5 hides where the point lands.
+  const core::ReflectionEvidence evidence = evidenceOf(rangeImage({ { 0, -0.5f, everywhere } }));
+  EXPECT_EQ(evidence.test(kPlane, kBehind, kTolerance).outcome, ReflectionOutcome::occluded);
+}
+
+TEST(ReflectionEvidence, APointWhereTheSensorSawNothingCannotBeTold)
+{
+  // The wall at x = -1 is seen only on the other side (y < -1).
+  const core::ReflectionEvidence evidence =
+      evidenceOf(rangeImage({ { 0, -1.0f, [](const Eigen::Vector3f& x) { return x.y() < -1.0f; } } }));
+  const core::ReflectionTest test = evidence.test(kPlane, kBehind, kTolerance);
+  EXPECT_EQ(test.outcome, ReflectionOutcome::noReturn);
+  EXPECT_TRUE(std::isnan(test.range_difference));
+}
+
+TEST(ReflectionEvidence, APointOnAFloorThroughThePlaneIsAmbiguous)
+{
+  // The floor z = -1 continues through the plane: a real floor point behind glass lands on the
+  // floor in front as a mirror's phantom of the floor would.
+  const core::ReflectionEvidence evidence = evidenceOf(rangeImage({ { 2, -1.0f, everywhere } }));
+  const core::ReflectionTest test = evidence.test(kPlane, Eigen::Vector3f(3.0f, 0.4f, -1.0f), kTolerance);
+  EXPECT_EQ(test.outcome, ReflectionOutcome::ambiguous) << core::reflectionOutcomeName(test.outcome);
+}
+
+TEST(ReflectionEvidence, ASweepWithoutReturnsHasNoEvidence)
+{
+  const core::ReflectionEvidence evidence = evidenceOf(rangeImage({}));
+  EXPECT_EQ(evidence.angularStep(), 0.0f);
+  EXPECT_EQ(evidence.test(kPlane, kBehind, kTolerance).outcome, ReflectionOutcome::noReturn);
+}
+
+TEST(ReflectionEvidence, NanPointsAreNoEvidence)
+{
+  // The wall at x = -1 was seen, but every return was gated (nanPoint): nothing to compare with.
+  const core::Sweep sweep = rangeImage({ { 0, -1.0f, everywhere } });
+  core::SweepLabels labels;
+  labels.reset(sweep.beamCount(), core::Label::nanPoint);
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
+  EXPECT_EQ(evidence.test(kPlane, kBehind, kTolerance).outcome, ReflectionOutcome::noReturn);
+}
+
+TEST(ReflectionEvidence, TheSensorOriginIsTheApex)
+{
+  // The same scene seen from (0, 0, 1): the sweep's points moved with it, the test as before.
+  core::Sweep sweep = rangeImage({ { 0, -1.0f, everywhere } });
+  const Eigen::Vector3f origin(0.0f, 0.0f, 1.0f);
+  for (auto& echo : sweep.echoes)
+    for (Eigen::Vector3f& p : echo.points)
+      p += origin;
+  core::SweepLabels labels;
+  labels.reset(sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, labels, origin);
+  EXPECT_EQ(evidence.test(kPlane, kBehind + origin, kTolerance).outcome, ReflectionOutcome::phantom);
+  // A point whose reflection misses the wall by half a metre is no phantom.
+  EXPECT_EQ(evidence.test(Eigen::Vector4f(-1.0f, 0.0f, 0.0f, 2.25f), kBehind + origin, kTolerance).outcome,
+            ReflectionOutcome::transmitted);
+}
+
+}  // namespace
+}  // namespace ohm_mirror_detector3d
