@@ -47,8 +47,9 @@ class StartUpParameters(unittest.TestCase):
         self.assert_refused('crossed_ranges', ['_min_measure_distance:=5.0', '_max_measure_distance:=2.0'],
                             'min_measure_distance (d_min) = 5', 'max_measure_distance (d_max)')
 
-    def test_refuses_zero_neighbours_given_under_the_paper_name(self):
-        self.assert_refused('zero_neighbours', ['_n_inlier:=0'], 'outlierFilter_minNeighbors (n_inlier) = 0')
+    def test_refuses_negative_neighbours_given_under_the_paper_name(self):
+        # 0 is no error: it leaves n_inlier to the sensor (automatic).
+        self.assert_refused('negative_neighbours', ['_n_inlier:=-1'], 'outlierFilter_minNeighbors (n_inlier) = -1')
 
     def test_refuses_a_value_of_the_wrong_type(self):
         self.assert_refused('wrong_type', ['_planeDetection_minAmountPoints:=many'],

@@ -41,8 +41,8 @@ struct InputOptions
   std::string input_topic;             // every mode but two_topics; empty: the mode's default_topic
   std::string echo1_topic = "/echo1";  // two_topics
   std::string echo2_topic = "/echo2";
-  double azimuth_resolution_deg = core::kDefaultAzimuthResolutionDeg;  // dual_return
-  MultiEchoScanOptions scan_options;                                   // multi_echo_scan
+  double azimuth_resolution_deg = core::kAzimuthStepFromCloud;  // dual_return
+  MultiEchoScanOptions scan_options;                             // multi_echo_scan
   // The scanner's tf frame when the clouds come in another frame; empty: the clouds' own frame.
   std::string sensor_frame;
   // Prefixes the log messages the modes write themselves (multi_echo_scan's tf waits).
