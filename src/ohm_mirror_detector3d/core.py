@@ -192,7 +192,9 @@ class FilterResult:
       width, height, plane (a, b, c, d), centre, surface_points, behind_points,
       mean_surface_intensity, mirrored_points, matched_points, inlier_fraction, icp_fitness,
       icp_converged, icp_correction (4, 4)).
-    stats: point counts of the stages and the core's wall time.
+    stats: point counts of the stages and the core's wall time; "warnings": a sentence for each stage
+      that removed an implausible share of the sweep (e.g. the outlier filter more than 10 % of the points
+      in range), naming the parameter and the share (what the node logs and reports on /diagnostics).
     """
     mode: str
     labelled: np.ndarray
@@ -200,6 +202,11 @@ class FilterResult:
     objects: List[dict]
     stats: dict
     shape: tuple
+
+    @property
+    def warnings(self) -> List[str]:
+        """stats['warnings']: empty when every stage removed a plausible share of the sweep."""
+        return list(self.stats.get('warnings', []))
 
     @property
     def labels(self) -> np.ndarray:
