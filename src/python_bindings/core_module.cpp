@@ -202,6 +202,7 @@ py::list parameterTable()
     else
       row["default"] = param.default_value.text;
     row["when_unset"] = textOrNone(param.default_value.when_unset);
+    row["automatic"] = textOrNone(param.automatic);  // what an automatic parameter at 0 follows
     row["lower"] = boundOf(param.lower);
     row["upper"] = boundOf(param.upper);
     row["above"] = textOrNone(param.above);
@@ -273,6 +274,17 @@ py::dict statsOf(const core::PipelineResult& r, const core::Params& params)
   stats["outlier_points"] = r.outlier_points;
   stats["error_surface_points"] = r.error_surface_points;
   stats["seconds"] = r.times.total;
+  py::dict stage_seconds;
+  stage_seconds["sampling"] = r.times.sampling;
+  stage_seconds["range_gate"] = r.times.range_gate;
+  stage_seconds["outlier_filter"] = r.times.outlier_filter;
+  stage_seconds["echo_comparison"] = r.times.echo_comparison;
+  stage_seconds["object_extraction"] = r.times.object_extraction;
+  stage_seconds["type_analysis"] = r.times.type_analysis;
+  stage_seconds["object_stages"] = r.times.object_stages;
+  stage_seconds["cone_labelling"] = r.times.cone_labelling;
+  stage_seconds["cleaned_output"] = r.times.cleaned_output;
+  stats["stage_seconds"] = stage_seconds;
   stats["released_surface_beams"] = r.released_surface_beams;
   stats["mixed_pixel_beams"] = r.mixed_pixel_beams;
   // A stage that removed an implausible share of the sweep, in words (core/removal_report.h).
