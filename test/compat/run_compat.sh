@@ -173,6 +173,17 @@ if ! build_in_chroot; then
 fi
 $sudo grep -E 'warning:' "$root$ws/build.log" | sort -u | head -n 20 || true
 echo "$stamp" | $sudo tee "$root$ws/.configured_from" > /dev/null
+if [ "${COMPAT_RECORD_GOLDEN:-0}" = 1 ]; then
+  # A change meant to alter the outputs re-records Debian 11's golden digests here (Debian 12's are
+  # recorded on the host with golden.py record); the file comes back into the working tree.
+  log "recording Debian 11's golden digests (COMPAT_RECORD_GOLDEN=1)"
+  in_chroot /bin/bash -eo pipefail -c "
+    export ROS_HOME=$ws/.ros ROS_LOG_DIR=$ws/.ros/log ROS_HOSTNAME=127.0.0.1
+    source $ws/devel/setup.bash
+    cd $ws/src/$pkg && python3 test/golden/golden.py record
+  "
+  $sudo cat "$root$ws/src/$pkg/test/golden/digests.json" > "$repo/test/golden/digests.json"
+fi
 log "running ctest in the chroot"
 in_chroot /bin/bash -eo pipefail -c "
   export ROS_HOME=$ws/.ros ROS_LOG_DIR=$ws/.ros/log ROS_HOSTNAME=127.0.0.1

@@ -7,8 +7,8 @@ meant to change behaviour re-records them (`golden.py record`) and says so in it
 
 The digests are per platform (distribution release and architecture, see platform_key): another
 compiler, PCL or Eigen rounds differently in the last bit, and the ICP evidence and refined mirror
-planes show it. Debian 12 (make test) and Debian 11 (make test-compat's chroot: record there with
-`golden.py record` inside it) are recorded; elsewhere the test is skipped, saying so.
+planes show it. Debian 12 (make test) and Debian 11 (make test-compat's chroot; re-record there with
+`COMPAT_RECORD_GOLDEN=1 make test-compat`) are recorded; elsewhere the test is skipped, saying so.
 
 The inputs are stored, not simulated at test time: the simulator's float arithmetic (BLAS kernels,
 vectorised sin/cos) differs in the last bit between CPUs, and a ray grazing a rectangle's edge then
