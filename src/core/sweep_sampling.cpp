@@ -53,26 +53,20 @@ float median(std::vector<float>& values)
 }
 }  // namespace
 
-void SamplingEstimator::directions(const Sweep& sweep, const Eigen::Vector3f& sensor_origin)
+Eigen::Vector3f SamplingEstimator::direction(std::size_t b) const
 {
-  const std::size_t n = sweep.beamCount();
-  directions_.resize(n);
-  const Eigen::Vector3f none = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
-  for (std::size_t b = 0; b < n; ++b)
-  {
-    const Eigen::Vector3f& p1 = sweep.echoes[0].points[b];
-    const Eigen::Vector3f& p2 = sweep.echoes[1].points[b];
-    const Eigen::Vector3f& p = p1.allFinite() ? p1 : p2;
-    const Eigen::Vector3f d = p - sensor_origin;
-    const float length = d.norm();
-    directions_[b] = p.allFinite() && length > 0.0f ? Eigen::Vector3f(d / length) : none;
-  }
+  const Eigen::Vector3f& p1 = sweep_->echoes[0].points[b];
+  const Eigen::Vector3f& p = p1.allFinite() ? p1 : sweep_->echoes[1].points[b];
+  const Eigen::Vector3f d = p - origin_;
+  const float length = d.norm();
+  return p.allFinite() && length > 0.0f ? Eigen::Vector3f(d / length)
+                                        : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
 }
 
 template <typename Usable>
 double SamplingEstimator::medianAngle(std::size_t offset, Usable usable)
 {
-  const std::size_t n = directions_.size();
+  const std::size_t n = beams_;
   angles_.clear();
   if (offset == 0 || offset >= n)
     return 0.0;
@@ -82,8 +76,8 @@ double SamplingEstimator::medianAngle(std::size_t offset, Usable usable)
     const std::size_t b = samples == n ? k : sampleIndex(k, n);
     if (b + offset >= n || !usable(b))
       continue;
-    const Eigen::Vector3f& a = directions_[b];
-    const Eigen::Vector3f& c = directions_[b + offset];
+    const Eigen::Vector3f a = direction(b);
+    const Eigen::Vector3f c = direction(b + offset);
     if (a.allFinite() && c.allFinite())
       angles_.push_back(angleBetween(a, c));
   }
@@ -113,8 +107,8 @@ void SamplingEstimator::estimateGrid(std::size_t rows, std::size_t cols, bool fo
   if (cols >= 3)
     for (std::size_t r = 0; r < rows; ++r)
     {
-      const Eigen::Vector3f& first = directions_[r * cols];
-      const Eigen::Vector3f& last = directions_[r * cols + cols - 1];
+      const Eigen::Vector3f first = direction(r * cols);
+      const Eigen::Vector3f last = direction(r * cols + cols - 1);
       if (first.allFinite() && last.allFinite())
         angles_.push_back(angleBetween(first, last));
     }
@@ -137,9 +131,9 @@ bool SamplingEstimator::foldAtPeriod(std::size_t beams)
     for (std::size_t k = 0; k < samples; ++k)
     {
       const std::size_t b = sampleIndex(k, beams - period);
-      const Eigen::Vector3f& d = directions_[b];
-      const Eigen::Vector3f& next = directions_[b + 1];
-      const Eigen::Vector3f& across = directions_[b + period];
+      const Eigen::Vector3f d = direction(b);
+      const Eigen::Vector3f next = direction(b + 1);
+      const Eigen::Vector3f across = direction(b + period);
       if (!d.allFinite() || !next.allFinite() || !across.allFinite())
         continue;
       const Eigen::Vector3f along_step = next - d;
@@ -176,11 +170,11 @@ bool SamplingEstimator::foldAtPeriod(std::size_t beams)
 double SamplingEstimator::nearestNeighbourAngle()
 {
   SpatialIndex index;
-  index.reservePoints(directions_.size());
+  index.reservePoints(beams_);
   std::size_t m = 0;
-  for (std::size_t b = 0; b < directions_.size(); ++b)
+  for (std::size_t b = 0; b < beams_; ++b)
   {
-    const Eigen::Vector3f& d = directions_[b];
+    const Eigen::Vector3f d = direction(b);
     if (!d.allFinite())
       continue;
     index.pointX()[m] = d.x();
@@ -207,9 +201,9 @@ double SamplingEstimator::nearestNeighbourAngle()
   std::size_t seen = 0;
   for (std::size_t k = 0; k < samples; ++k)
   {
-    const std::size_t b = sampleIndex(k, directions_.size());
+    const std::size_t b = sampleIndex(k, beams_);
     // The sample walks the beams; skip the ones without a return.
-    const Eigen::Vector3f& d = directions_[b];
+    const Eigen::Vector3f d = direction(b);
     if (!d.allFinite())
       continue;
     ++seen;
@@ -238,7 +232,9 @@ double SamplingEstimator::nearestNeighbourAngle()
 const SweepSampling& SamplingEstimator::estimate(const Sweep& sweep, const Eigen::Vector3f& sensor_origin)
 {
   sampling_ = SweepSampling();
-  directions(sweep, sensor_origin);
+  sweep_ = &sweep;
+  origin_ = sensor_origin;
+  beams_ = sweep.beamCount();
   const std::size_t beams = sweep.beamCount();
   if (beams < 2)
     return sampling_;

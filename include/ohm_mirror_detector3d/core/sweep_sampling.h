@@ -65,7 +65,9 @@ public:
   const SweepSampling& estimate(const Sweep& sweep, const Eigen::Vector3f& sensor_origin);
 
 private:
-  void directions(const Sweep& sweep, const Eigen::Vector3f& sensor_origin);
+  // The unit direction of beam b of the sweep being estimated (its first finite echo), NaN
+  // without a return: computed when asked, since an estimate looks at a few thousand beams.
+  Eigen::Vector3f direction(std::size_t b) const;
   // Median angle between beam b and beam b + offset over a deterministic sample of beams b
   // for which `usable(b)`; 0 when fewer than a handful of pairs have both directions.
   template <typename Usable>
@@ -75,7 +77,9 @@ private:
   double nearestNeighbourAngle();
 
   SweepSampling sampling_;
-  std::vector<Eigen::Vector3f> directions_;  // unit vectors, NaN for beams without a return
+  const Sweep* sweep_ = nullptr;  // during estimate()
+  Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
+  std::size_t beams_ = 0;
   std::vector<float> angles_;
   std::vector<float> cosines_;
 };
