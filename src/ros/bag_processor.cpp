@@ -6,6 +6,7 @@
 #include <rosbag/view.h>
 #include <tf2/buffer_core.h>
 #include <tf2_msgs/TFMessage.h>
+#include <topic_tools/shape_shifter.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -126,6 +127,48 @@ void checkTopics(rosbag::Bag& bag, const std::string& path, const std::string& m
   if (!tf_user.empty() && connections.count(kTfTopic) == 0 && connections.count(kTfStaticTopic) == 0)
     throw BagToolError(path + " has neither " + kTfTopic + " nor " + kTfStaticTopic + ", which " + tf_user +
                        " needs (the transforms are taken from the bag). Its topics are:" + describeTopics(bag));
+}
+
+// No input mode given: the mode that reads the type of the input topic in the bag, as the
+// nodelet's default mode chooses it (matchInputType), with the topic set in `input` when it was
+// not given (the first of the chosen modes' default topics the bag has).
+const InputMode& modeFromBag(rosbag::Bag& bag, const std::string& path, InputOptions& input, std::ostream& log)
+{
+  rosbag::View all(bag);
+  std::map<std::string, const rosbag::ConnectionInfo*> first_connection;
+  for (const rosbag::ConnectionInfo* connection : all.getConnections())
+    first_connection.emplace(connection->topic, connection);
+  std::string topic = input.input_topic;
+  std::string candidates;
+  for (const InputMode* mode : runTimeChoices())
+  {
+    candidates += std::string(candidates.empty() ? "" : ", ") + mode->default_topic;
+    if (topic.empty() && first_connection.count(mode->default_topic) > 0)
+      topic = mode->default_topic;
+  }
+  if (topic.empty())
+    throw BagToolError("no --input-mode given and " + path + " has none of " + candidates +
+                       " (give --input-mode and --input-topic). Its topics are:" + describeTopics(bag));
+  const auto found = first_connection.find(topic);
+  if (found == first_connection.end())
+    throw BagToolError(path + " has no topic " + topic + " (name another with --input-topic). Its topics are:" +
+                       describeTopics(bag));
+  const rosbag::ConnectionInfo& connection = *found->second;
+  topic_tools::ShapeShifter::ConstPtr message;
+  for (const rosbag::MessageInstance& instance : rosbag::View(bag, rosbag::TopicQuery(topic)))
+  {
+    message = instance.instantiate<topic_tools::ShapeShifter>();
+    break;
+  }
+  const InputTypeMatch match =
+      matchInputType(connection.datatype, connection.md5sum, connection.msg_def, message.get());
+  if (match.mode == nullptr)
+    throw BagToolError("no --input-mode given, and the messages on " + topic + " in " + path + " choose none: " +
+                       match.problem + " (--input-mode MODE, with its parameters in --params)");
+  log << "prefilter_bag: no --input-mode given: " << topic << " holds " << connection.datatype
+      << ", read as input mode " << match.mode->name << "\n";
+  input.input_topic = topic;
+  return *match.mode;
 }
 
 // The output file under its partial name until commit(); removed if never committed.
@@ -255,14 +298,14 @@ public:
       ++summary_.sweeps_dropped;
       const std::size_t seen = ++summary_.drop_reasons[reason];
       if (seen <= kReportedDropsPerReason || options_.verbose)
-        log_ << "prefilter_bag: dropping input at bag time " << bag_time_ << ": " << reason
+        log_ << "prefilter_bag: dropping input at bag time " << bag_time_ << ": " << problem.describeInFull()
              << (seen == kReportedDropsPerReason && !options_.verbose ? " (more of these are only counted)" : "")
              << "\n";
       return;
     }
     const std::size_t seen = ++warnings_[reason];
     if (seen <= kReportedDropsPerReason || options_.verbose)
-      log_ << "prefilter_bag: warning at bag time " << bag_time_ << ": " << reason
+      log_ << "prefilter_bag: warning at bag time " << bag_time_ << ": " << problem.describeInFull()
            << (seen == kReportedDropsPerReason && !options_.verbose ? " (more of these are not shown)" : "") << "\n";
   }
 
@@ -374,8 +417,8 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   const Clock::time_point start = Clock::now();
   BagToolSummary summary;
 
-  const InputMode* mode = findInputMode(options.input_mode);
-  if (mode == nullptr)
+  const InputMode* mode = options.input_mode.empty() ? nullptr : findInputMode(options.input_mode);
+  if (mode == nullptr && !options.input_mode.empty())
     throw BagToolError(unknownInputModeMessage(options.input_mode));
   std::error_code error;
   if (!fs::exists(options.input_path, error))
@@ -392,6 +435,10 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   {
     throw BagToolError("cannot read " + options.input_path + " as a ROS bag: " + e.what());
   }
+  InputOptions input_options = options.input;
+  if (mode == nullptr)
+    mode = &modeFromBag(in, options.input_path, input_options, log);
+  const std::string mode_name = mode->name;
   // Opened once the bag's topics are checked.
   PartialOutput output(options.output_path, log);
   rosbag::Bag& out = output.bag();
@@ -407,18 +454,17 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
   // The transforms of the bag, in bag order: the nodelet's tf listener, without a master.
   tf2::BufferCore tf;  // default cache time, as the nodelet's tf2_ros::Buffer
   const Processor& clock = *processor;
-  SweepInput input(*mode, options.input, tf, *processor, [&clock]() { return clock.bagTime().toSec(); });
+  SweepInput input(*mode, input_options, tf, *processor, [&clock]() { return clock.bagTime().toSec(); });
   const std::vector<WantedTopic> wanted = wantedTopics(input);
   std::set<std::string> read_topics;
   for (const WantedTopic& topic : wanted)
     if (!read_topics.insert(topic.name).second)
-      throw BagToolError("input mode " + options.input_mode + " reads " + topic.name +
-                         " twice; its topics must differ");
+      throw BagToolError("input mode " + mode_name + " reads " + topic.name + " twice; its topics must differ");
   std::string tf_user;
   if (input.readsTf())
-    tf_user = options.input.sensor_frame.empty() ? "input mode " + options.input_mode :
-                                                   "sensor_frame '" + options.input.sensor_frame + "'";
-  checkTopics(in, options.input_path, options.input_mode, wanted, tf_user);
+    tf_user = input_options.sensor_frame.empty() ? "input mode " + mode_name :
+                                                   "sensor_frame '" + input_options.sensor_frame + "'";
+  checkTopics(in, options.input_path, mode_name, wanted, tf_user);
   output.open();
   std::map<std::string, const InputTopic*> input_topics;
   for (const std::unique_ptr<InputTopic>& topic : input.topics())

@@ -187,8 +187,9 @@ geometry_msgs::Point toPoint(const Eigen::Vector3f& p)
   point.z = p.z();
   return point;
 }
+}  // namespace
 
-std_msgs::ColorRGBA colourOf(core::ObjectType type)
+std_msgs::ColorRGBA objectColour(core::ObjectType type)
 {
   std_msgs::ColorRGBA colour;
   colour.a = 1.0f;
@@ -205,7 +206,6 @@ std_msgs::ColorRGBA colourOf(core::ObjectType type)
   }
   return colour;
 }
-}  // namespace
 
 void toObjectArray(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
                    ReflectiveObjectArray& array)
@@ -264,7 +264,7 @@ void toMarkers(const std_msgs::Header& header, const std::vector<core::Reflectiv
     outline.action = visualization_msgs::Marker::ADD;
     outline.pose.orientation.w = 1.0;
     outline.scale.x = 0.02;
-    outline.color = colourOf(object.type);
+    outline.color = objectColour(object.type);
     const std::array<Eigen::Vector3f, 4> corners = object.corners();
     for (const Eigen::Vector3f& corner : corners)
       outline.points.push_back(toPoint(corner));
@@ -280,7 +280,7 @@ void toMarkers(const std_msgs::Header& header, const std::vector<core::Reflectiv
     text.pose.position = toPoint(object.centre + (0.5f * object.height + 0.1f) * object.height_axis);
     text.pose.orientation.w = 1.0;
     text.scale.z = 0.1;
-    text.color = colourOf(object.type);
+    text.color = objectColour(object.type);
     char description[96];
     std::snprintf(description, sizeof(description), "%s %u: %.1f x %.1f cm", core::objectTypeName(object.type),
                   object.id, 100.0 * object.width, 100.0 * object.height);

@@ -36,6 +36,31 @@ T readAt(const std::uint8_t* data, std::size_t offset)
 }
 }  // namespace
 
+const char* const kLegacyScanDatatype = "ohm_hokuyo3d/CoordDistMulti";
+
+std::string legacyLayoutProblem(const std::string& datatype, const std::string& definition)
+{
+  MessageDefinition parsed;
+  const std::string problem = parsed.parse(datatype, definition);
+  if (!problem.empty())
+    return problem;
+  for (const FieldSpec& echoes : parsed.root().fields)
+  {
+    if (echoes.name != kEchoArray)
+      continue;
+    if (!echoes.is_array || echoes.nested == nullptr)
+      break;
+    for (const FieldSpec& coord : echoes.nested->fields)
+      if (coord.name == "coord" && !coord.is_array && coord.nested != nullptr)
+        for (const FieldSpec& coords : coord.nested->fields)
+          if (coords.name == "coords" && coords.typeName() == "float32[]")
+            return "";
+    return "message definition of " + datatype + " has no field '" + kEchoArray + "[].coord.coords' of type float32[]";
+  }
+  return "message definition of " + datatype + " has no field '" + kEchoArray + "' that is an array of CoordDist "
+         "messages";
+}
+
 std::string Hokuyo3dLegacyDecoder::parseDefinition(const std::string& datatype, const std::string& definition)
 {
   std::string problem = definition_.parse(datatype, definition);
@@ -88,6 +113,18 @@ std::string Hokuyo3dLegacyDecoder::decode(const std::string& datatype, const std
                    readAt<std::uint32_t>(data, seq->second.offset) :
                    0;
   header.frame_id.assign(reinterpret_cast<const char*>(data) + frame->second.offset, frame->second.count);
+  // The echoes of a beam must be measured in one frame, or comparing their ranges and the
+  // back-projection mix two frames (an empty frame_id says nothing).
+  const std::string second_frame_path = std::string(kEchoArray) + "[1].coord.header.frame_id";
+  const auto second_frame = locations_.find(second_frame_path);
+  if (echoes == 2 && second_frame != locations_.end() && second_frame->second.field->type == "string")
+  {
+    const std::string frame_id(reinterpret_cast<const char*>(data) + second_frame->second.offset,
+                               second_frame->second.count);
+    if (!frame_id.empty() && !header.frame_id.empty() && frame_id != header.frame_id)
+      return "'" + second_frame_path + "' is '" + frame_id + "' but '" + header_path + ".frame_id' is '" +
+             header.frame_id + "'; both echoes must be in one frame";
+  }
 
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::size_t beams = 0;

@@ -51,8 +51,6 @@ const FieldSpec* fieldNamed(const MessageSpec& spec, const std::string& name)
 }
 }  // namespace
 
-const char* const kLegacyScanDatatype = "ohm_hokuyo3d/CoordDistMulti";
-
 const std::string& builtinLegacyScanDefinition()
 {
   static const std::string definition(kBuiltinScanDefinition);

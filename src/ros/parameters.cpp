@@ -2,6 +2,9 @@
 
 #include <boost/any.hpp>
 
+#include <algorithm>
+#include <cctype>
+#include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
@@ -60,7 +63,81 @@ void readAliased(const ParamSource& source, const core::ParamInfo& param, T& fie
   if (first < names.size())
     field = values[first];
 }
+// Edits (insert, delete, substitute) between `a` and `b`, ignoring case.
+std::size_t editDistance(const std::string& a, const std::string& b)
+{
+  std::vector<std::size_t> previous(b.size() + 1), current(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j)
+    previous[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+  {
+    current[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+    {
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      current[j] = std::min({ previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (same ? 0 : 1) });
+    }
+    std::swap(previous, current);
+  }
+  return previous[b.size()];
+}
+
+// A typo is at most this many edits from the name meant.
+constexpr std::size_t kTypoEdits = 2;
 }  // namespace
+
+std::vector<std::string> unusedParameterWarnings(const std::vector<std::string>& unused, const ParamSource& source,
+                                                 const std::string& context)
+{
+  std::vector<std::string> warnings;
+  for (const std::string& name : unused)
+  {
+    const core::ParamInfo* known = core::findParameter(name);
+    if (known != nullptr)
+    {
+      warnings.push_back("parameter " + source.describe(name) + " is not used with " + context +
+                         " and is ignored (it is: " + known->doc + ")");
+      continue;
+    }
+    std::string nearest;
+    std::size_t nearest_edits = kTypoEdits + 1;
+    for (const core::ParamInfo& param : core::parameterTable())
+      for (const std::string& candidate : param.names())
+      {
+        const std::size_t edits = editDistance(name, candidate);
+        if (edits < nearest_edits)
+        {
+          nearest = candidate;
+          nearest_edits = edits;
+        }
+      }
+    warnings.push_back("parameter " + source.describe(name) + " is no parameter of the pre-filter and is ignored (" +
+                       (nearest.empty() ? std::string("a typo, or a name of the original node that has no meaning "
+                                                      "here") :
+                                          "did you mean " + nearest + "?") +
+                       ")");
+  }
+  return warnings;
+}
+
+std::vector<std::string> privateParameterNames(const ros::NodeHandle& private_nh)
+{
+  std::vector<std::string> all;
+  std::vector<std::string> names;
+  if (!private_nh.getParamNames(all))
+    return names;
+  const std::string prefix = private_nh.getNamespace() + "/";
+  for (const std::string& full : all)
+  {
+    if (full.compare(0, prefix.size(), prefix) != 0)
+      continue;
+    const std::string name = full.substr(prefix.size(), full.find('/', prefix.size()) - prefix.size());
+    if (!name.empty() && std::find(names.begin(), names.end(), name) == names.end())
+      names.push_back(name);
+  }
+  return names;
+}
 
 core::Params readParams(const ParamSource& source, std::vector<std::string>& errors)
 {
@@ -108,6 +185,34 @@ core::Params fromConfig(const PreFilterConfig& config)
       params.*param->integer_field = boost::any_cast<int>(value);
   }
   return params;
+}
+
+std::vector<std::string> keptValues(const PreFilterConfig& kept, const PreFilterConfig& refused)
+{
+  std::vector<std::string> lines;
+  for (const PreFilterConfig::AbstractParamDescriptionConstPtr& description : PreFilterConfig::__getParamDescriptions__())
+  {
+    boost::any kept_value, refused_value;
+    description->getValue(kept, kept_value);
+    description->getValue(refused, refused_value);
+    std::ostringstream line;
+    if (description->type == "double")
+    {
+      const double a = boost::any_cast<double>(kept_value), b = boost::any_cast<double>(refused_value);
+      if (a == b)
+        continue;
+      line << description->name << " = " << a << " (not " << b << ")";
+    }
+    else
+    {
+      const int a = boost::any_cast<int>(kept_value), b = boost::any_cast<int>(refused_value);
+      if (a == b)
+        continue;
+      line << description->name << " = " << a << " (not " << b << ")";
+    }
+    lines.push_back(line.str());
+  }
+  return lines;
 }
 
 }  // namespace ros_io

@@ -48,11 +48,14 @@ void printHelp(std::ostream& out)
          "outputs replace them.\n"
          "\n"
          "Options:\n"
-         "  --input-mode MODE    how sweeps are read (default pair):\n";
+         "  --input-mode MODE    how sweeps are read; by default the type on --input-topic in the bag\n"
+         "                       chooses it, as for the nodelet without input_mode: "
+      << ros_io::runTimeInputMode().help << ". The modes:\n";
   for (const ros_io::InputMode& mode : ros_io::inputModes())
     out << "                         " << mode.name << ": " << mode.help << "\n";
   out << "  --input-topic T      the input topic of every mode but two_topics; by default what\n"
-         "                       synthesize_sweep --bag writes:\n";
+         "                       synthesize_sweep --bag writes (without --input-mode: the first of\n"
+         "                       these the bag has, of the modes it may choose):\n";
   for (const ros_io::InputMode& mode : ros_io::inputModes())
     if (mode.default_topic != nullptr)
       out << "                         " << mode.name << ": " << mode.default_topic << "\n";
@@ -63,7 +66,9 @@ void printHelp(std::ostream& out)
          "                       launch/rotating_hokuyo_params.yaml; its input_mode is used unless\n"
          "                       --input-mode is given. Bad values are refused with the nodelet's messages.\n"
          "                       Also the modes' start-up parameters, as for the nodelet: dual_return:\n"
-         "                       azimuth_resolution_deg (default 360/2048); multi_echo_scan: sweep_frame\n"
+         "                       azimuth_resolution_deg (default 360/2048); two_topics: approximate_sync\n"
+         "                       (default 0: equal stamps; > 0: stamps at most that many seconds apart);\n"
+         "                       multi_echo_scan: sweep_frame\n"
          "                       (required), sweep_period (default 0: per half rotation), rotation_axis\n"
          "                       (default [0, 0, 1]); every mode but multi_echo_scan: sensor_frame (the\n"
          "                       scanner's frame when the clouds come in another). multi_echo_scan and\n"
@@ -105,6 +110,17 @@ std::string joinLines(const std::vector<std::string>& lines)
   for (const std::string& line : lines)
     joined += "\n  " + line;
   return joined;
+}
+
+// "pair", or without --input-mode the modes the bag's type may choose: "pair or hokuyo3d_legacy (...)".
+std::string modeNames(const std::string& input_mode)
+{
+  if (!input_mode.empty())
+    return input_mode;
+  std::string names;
+  for (const ros_io::InputMode* mode : ros_io::runTimeChoices())
+    names += (names.empty() ? "" : " or ") + std::string(mode->name);
+  return names + " (which the bag's type chooses when --input-mode is not given)";
 }
 
 // Parses argv into `options`; returns false when --help was given.
@@ -179,7 +195,8 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     options.input_mode = given["--input-mode"];
   else if (!file_input_mode.empty())
     options.input_mode = file_input_mode;
-  const ros_io::InputMode* mode = ros_io::findInputMode(options.input_mode);
+  const ros_io::InputMode* mode =
+      options.input_mode.empty() ? &ros_io::runTimeInputMode() : ros_io::findInputMode(options.input_mode);
   if (mode == nullptr)
     throw UsageError(ros_io::unknownInputModeMessage(options.input_mode));
   // The start-up parameters of the input modes, read as the nodelet reads them.
@@ -191,16 +208,9 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     throw UsageError("refusing to start, bad parameters" + (file ? " in " + params_path : std::string()) + ":" +
                      joinLines(errors));
   if (file)
-  {
-    const std::vector<std::string> unused = file->unusedNames();
-    if (!unused.empty())
-    {
-      std::cerr << "prefilter_bag: note: " << params_path << " sets parameters that prefilter_bag does not use:";
-      for (const std::string& name : unused)
-        std::cerr << " " << name;
-      std::cerr << "\n";
-    }
-  }
+    for (const std::string& warning : ros_io::unusedParameterWarnings(
+             file->unusedNames(), *file, "prefilter_bag in input mode " + modeNames(options.input_mode)))
+      std::cerr << "prefilter_bag: warning: " << warning << "\n";
   if (given.count("--input-topic") > 0)
     options.input.input_topic = given["--input-topic"];
   if (given.count("--echo1-topic") > 0)
@@ -214,7 +224,7 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     mode_options.insert(topic->option);
   for (const char* option : { "--input-topic", "--echo1-topic", "--echo2-topic" })
     if (given.count(option) > 0 && mode_options.count(option) == 0)
-      throw UsageError(std::string(option) + " does not apply to input mode " + options.input_mode);
+      throw UsageError(std::string(option) + " does not apply to input mode " + modeNames(options.input_mode));
   if (given.count("--prefix") > 0)
   {
     std::string prefix = given["--prefix"];

@@ -1,6 +1,7 @@
 #include "ohm_mirror_detector3d/ros/prefilter_nodelet.h"
 
 #include <pluginlib/class_list_macros.hpp>
+#include <ros/master.h>
 #include <std_msgs/Float64MultiArray.h>
 
 #include <algorithm>
@@ -29,51 +30,85 @@ std::string joinLines(const std::vector<std::string>& lines)
   return joined;
 }
 
-// A topic under its current name, or under the name a legacy launch file gives it with
-// a `sub_*` / `pub_*` parameter (resolved like any relative name of the node).
-std::string topicName(const ros::NodeHandle& private_nh, const std::string& own_name,
-                      const std::vector<std::string>& legacy_params)
+std::string joinWords(const std::vector<std::string>& words)
 {
-  for (const std::string& legacy : legacy_params)
-  {
-    std::string topic;
-    if (private_nh.getParam(legacy, topic) && !topic.empty())
-      return topic;
-  }
-  return private_nh.resolveName(own_name);
+  std::string joined;
+  for (const std::string& word : words)
+    joined += (joined.empty() ? "" : ", ") + word;
+  return joined;
+}
+
+// How often the master's record of the input topics' types is checked.
+constexpr double kPublisherCheckSeconds = 2.0;
+
+// A topic under its own name, or under the name `name_param` gives it (resolved like any
+// relative name of the node); a value that is no string is an error.
+std::string topicName(const ros_io::ParamSource& source, const ros::NodeHandle& private_nh,
+                      const std::string& own_name, const std::string& name_param, std::vector<std::string>& errors)
+{
+  std::string topic;
+  if (source.has(name_param) && !source.get(name_param, topic))
+    errors.push_back("parameter " + source.describe(name_param) + " has the wrong type: expected a topic name");
+  return topic.empty() ? private_nh.resolveName(own_name) : topic;
+}
+
+// The names in `names` that nothing asked `source` for.
+std::vector<std::string> notAsked(const std::vector<std::string>& names, const ros_io::RecordingParamSource& source)
+{
+  std::vector<std::string> unused;
+  for (const std::string& name : names)
+    if (!source.wasAsked(name))
+      unused.push_back(name);
+  return unused;
 }
 }  // namespace
 
 void PreFilterNodelet::onInit()
 {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
+  // Before anything writes back under the private namespace (writeParams, reconfigure).
+  const std::vector<std::string> set_names = ros_io::privateParameterNames(pnh);
+  const ros_io::NodeHandleParamSource server(pnh);
+  const ros_io::RecordingParamSource source(server);
 
   std::vector<std::string> errors;
-  const core::Params params = ros_io::readParams(pnh, errors);
+  const core::Params params = ros_io::readParams(source, errors);
   const std::vector<std::string> range_errors = params.validate();
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
+  const ros_io::InputMode* mode = &ros_io::runTimeInputMode();
   std::string input_mode;
-  pnh.param<std::string>("input_mode", input_mode, ros_io::inputModes().front().name);
-  const ros_io::InputMode* mode = ros_io::findInputMode(input_mode);
-  if (mode == nullptr)
-    errors.push_back(ros_io::unknownInputModeMessage(input_mode));
+  if (source.has("input_mode") && !source.get("input_mode", input_mode))
+    errors.push_back("parameter " + source.describe("input_mode") + " has the wrong type: expected a string");
+  if (!input_mode.empty())
+  {
+    mode = ros_io::findInputMode(input_mode);
+    if (mode == nullptr)
+      errors.push_back(ros_io::unknownInputModeMessage(input_mode));
+  }
   ros_io::InputOptions options;
-  input_topic_ = topicName(pnh, "input", { "sub_input_scan" });
-  options.input_topic = input_topic_;
+  if (mode != nullptr && mode->default_topic != nullptr)
+    options.input_topic = topicName(source, pnh, "input", "sub_input_scan", errors);
   options.echo1_topic = pnh.resolveName("echo1");
   options.echo2_topic = pnh.resolveName("echo2");
-  // Its messages name the input topic too, as every other input problem does.
-  options.log_name = getName() + " (input " + input_topic_ + ")";
+  // Its messages name the input topics too, as every other input problem does.
+  options.log_name = getName() + " (input " +
+                     (options.input_topic.empty() ? options.echo1_topic + " + " + options.echo2_topic :
+                                                    options.input_topic) +
+                     ")";
   if (mode != nullptr)
-    ros_io::readInputOptions(ros_io::NodeHandleParamSource(pnh), *mode, options, errors);
-  if (!errors.empty())
-  {
+    ros_io::readInputOptions(source, *mode, options, errors);
+  const auto refuseIfBad = [this, &errors]() {
+    if (errors.empty())
+      return;
     const std::string message = "refusing to start, bad parameters:" + joinLines(errors);
     NODELET_FATAL_STREAM(message);
     throw std::invalid_argument(message);
-  }
+  };
+  refuseIfBad();
+
+  // Everything a sweep passes through is ready before the outputs are advertised: a subscriber
+  // that connects at once subscribes the input (updateSubscription).
   pipeline_.setParams(params);
-  ros_io::writeParams(pnh, params);
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   ros_io::SweepReceiver& receiver = *this;
   input_ = std::make_unique<ros_io::SweepInput>(*mode, options, *tf_buffer_, receiver,
@@ -83,6 +118,16 @@ void PreFilterNodelet::onInit()
     // Started here so that tf is buffered by the time the first sweep comes.
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, getNodeHandle(), true);
   }
+  advertiseOutputs(source, std::string(mode->name) == "hokuyo3d_legacy", errors);
+  refuseIfBad();
+
+  source.markUsed("diagnostic_period");  // diagnostic_updater reads it itself
+  for (const std::string& warning :
+       ros_io::unusedParameterWarnings(notAsked(set_names, source), source,
+                                       *mode->name == '\0' ? std::string("input_mode not set") :
+                                                             "input_mode " + std::string(mode->name)))
+    NODELET_WARN_STREAM(warning);
+  ros_io::writeParams(pnh, params);
 
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
@@ -91,28 +136,39 @@ void PreFilterNodelet::onInit()
   if (!input_->describe().empty())
     NODELET_INFO_STREAM(input_->describe());
 
-  advertiseOutputs();
   startDiagnostics();
-  NODELET_INFO("pre-filter ready: input_mode %s, publishing %s, %s, %s, %s", mode->name,
-               labelled_pub_.getTopic().c_str(), cleaned_pub_.getTopic().c_str(), objects_pub_.getTopic().c_str(),
-               markers_pub_.getTopic().c_str());
+  std::string inputs;
+  for (const std::unique_ptr<ros_io::InputTopic>& topic : input_->topics())
+    inputs += (inputs.empty() ? "" : " and ") + topic->name + " (" + topic->datatype + ")";
+  const std::string legacy = legacy_.describe();
+  NODELET_INFO_STREAM("pre-filter ready: input_mode " << (*mode->name == '\0' ? "not set" : mode->name) << ", input "
+                                                      << inputs << "; publishing " << labelled_pub_.getTopic() << ", "
+                                                      << cleaned_pub_.getTopic() << ", " << objects_pub_.getTopic()
+                                                      << ", " << markers_pub_.getTopic()
+                                                      << (legacy.empty() ? "" : "; the original's outputs: " + legacy));
 }
 
-void PreFilterNodelet::advertiseOutputs()
+void PreFilterNodelet::advertiseOutputs(const ros_io::ParamSource& source, bool every_legacy_output,
+                                        std::vector<std::string>& errors)
 {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   const ros::SubscriberStatusCallback on_connection = [this](const ros::SingleSubscriberPublisher&) {
     updateSubscription();
   };
+  const std::string labelled = topicName(source, pnh, "labelled", "pub_labelled", errors);
+  const std::string objects = topicName(source, pnh, "objects", "pub_objects", errors);
+  const std::string markers = topicName(source, pnh, "markers", "pub_markers", errors);
+  for (const ros_io::LegacyOutput& output : ros_io::legacyOutputs())
+    topicName(source, pnh, output.default_topic, output.parameter, errors);
+  if (!errors.empty())
+    return;
   std::lock_guard<std::mutex> lock(subscription_mutex_);
-  labelled_pub_ = pnh.advertise<sensor_msgs::PointCloud2>(topicName(pnh, "labelled", { "pub_labelled" }), 1,
-                                                          on_connection, on_connection);
-  cleaned_pub_ = pnh.advertise<sensor_msgs::PointCloud2>(topicName(pnh, "cleaned", { "pub_cleaned", "pub_scan" }),
-                                                         1, on_connection, on_connection);
-  objects_pub_ = pnh.advertise<ReflectiveObjectArray>(topicName(pnh, "objects", { "pub_objects" }), 1,
-                                                      on_connection, on_connection);
-  markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>(topicName(pnh, "markers", { "pub_markers" }), 1,
-                                                                on_connection, on_connection);
+  labelled_pub_ = pnh.advertise<sensor_msgs::PointCloud2>(labelled, 1, on_connection, on_connection);
+  // The original's pub_cleaned and pub_scan name its own outputs (legacy_): ~cleaned has no other name.
+  cleaned_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("cleaned", 1, on_connection, on_connection);
+  objects_pub_ = pnh.advertise<ReflectiveObjectArray>(objects, 1, on_connection, on_connection);
+  markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>(markers, 1, on_connection, on_connection);
+  legacy_.advertise(pnh, source, every_legacy_output, on_connection);
   // Not an output: subscribing to it alone does not start the pre-filter.
   timing_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("timing", 10);
 }
@@ -121,7 +177,7 @@ void PreFilterNodelet::startDiagnostics()
 {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   diagnostics_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
-  diagnostics_->setHardwareID(input_topic_);
+  diagnostics_->setHardwareID(input_->topicNames());
   diagnostics_->add("pre-filter", [this](diagnostic_updater::DiagnosticStatusWrapper& status) {
     bool subscribed = false;
     {
@@ -140,7 +196,8 @@ void PreFilterNodelet::updateSubscription()
 {
   std::lock_guard<std::mutex> lock(subscription_mutex_);
   const bool wanted = labelled_pub_.getNumSubscribers() > 0 || cleaned_pub_.getNumSubscribers() > 0 ||
-                      objects_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0;
+                      objects_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0 ||
+                      legacy_.anySubscribed();
   if (wanted && !subscribed_)
     subscribe();
   else if (!wanted && subscribed_)
@@ -155,6 +212,8 @@ void PreFilterNodelet::subscribe()
   if (input_->readsTf())
     poll_timer_ = pnh.createWallTimer(ros::WallDuration(kTfPollSeconds),
                                       [this](const ros::WallTimerEvent&) { input_->poll(); });
+  publisher_check_timer_ = pnh.createWallTimer(ros::WallDuration(kPublisherCheckSeconds),
+                                               [this](const ros::WallTimerEvent&) { checkInputPublishers(); });
   subscribed_ = true;
   NODELET_DEBUG("an output has subscribers: subscribed to the input");
 }
@@ -165,8 +224,32 @@ void PreFilterNodelet::unsubscribe()
     subscriber.shutdown();
   input_subscribers_.clear();
   poll_timer_.stop();
+  publisher_check_timer_.stop();
   subscribed_ = false;
   NODELET_DEBUG("no output has subscribers: unsubscribed from the input");
+}
+
+void PreFilterNodelet::checkInputPublishers()
+{
+  ros::master::V_TopicInfo published;
+  if (!ros::master::getTopics(published))
+    return;  // the master is away: roscpp says so itself
+  std::string found;
+  for (const std::unique_ptr<ros_io::InputTopic>& topic : input_->topics())
+  {
+    if (topic->md5sum == "*")
+      continue;  // it takes any type and names what it cannot read
+    for (const ros::master::TopicInfo& info : published)
+      if (info.name == topic->name && info.datatype != topic->datatype && info.datatype != "*")
+      {
+        const std::string problem = "its publisher sends " + info.datatype + ", but " + topic->datatype +
+                                    " is read here, so roscpp refuses the connection; " +
+                                    ros_io::modeThatReads(info.datatype);
+        reportInputProblem(ros_io::InputProblem{ true, "messages", topic->name, problem });
+        found = topic->name + ": " + problem;
+      }
+  }
+  stats_.recordPublisherProblem(found);
 }
 
 void PreFilterNodelet::onReconfigure(PreFilterConfig& config, std::uint32_t /*level*/)
@@ -175,8 +258,9 @@ void PreFilterNodelet::onReconfigure(PreFilterConfig& config, std::uint32_t /*le
   const std::vector<std::string> errors = params.validate();
   if (!errors.empty())
   {
+    // The caller gets the kept values back in the reconfigure response (dynparam get, rqt_reconfigure).
     NODELET_ERROR_STREAM("dynamic_reconfigure refused, the previous configuration stays in force:"
-                         << joinLines(errors));
+                         << joinLines(errors) << "\n  kept: " << joinWords(ros_io::keptValues(active_config_, config)));
     // dynamic_reconfigure publishes whatever the callback leaves in `config`.
     config = active_config_;
     return;
@@ -200,6 +284,26 @@ void PreFilterNodelet::inputProblem(const ros_io::InputProblem& problem)
     stats_.recordDropped(problem.what == "sweep" ? problem.text : problem.what + ": " + problem.text);
 }
 
+void PreFilterNodelet::inputTypeFound(const ros_io::FoundInputType& type)
+{
+  {
+    std::lock_guard<std::mutex> lock(problem_mutex_);
+    if (type.topic == found_type_.topic && type.mode == found_type_.mode && type.md5sum == found_type_.md5sum &&
+        type.definition == found_type_.definition)
+      return;
+    found_type_ = type;
+  }
+  NODELET_INFO_STREAM("input " << type.topic << ": " << type.datatype << " (md5sum " << type.md5sum
+                               << "), read as input_mode " << type.mode);
+  if (type.mode != "hokuyo3d_legacy")
+    return;
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  const std::string problem = legacy_.useDefinition(type.datatype, type.definition);
+  if (!problem.empty())
+    NODELET_ERROR_STREAM("the outputs in the original's types keep their previous definition, the driver's on "
+                         << type.topic << " does not fit them: " << problem);
+}
+
 void PreFilterNodelet::reportInputProblem(const ros_io::InputProblem& problem)
 {
   std::size_t suppressed = 0;
@@ -211,9 +315,9 @@ void PreFilterNodelet::reportInputProblem(const ros_io::InputProblem& problem)
   const std::string repeats =
       suppressed > 0 ? " (and " + std::to_string(suppressed) + " more like it since the last report)" : "";
   if (problem.dropped)
-    NODELET_ERROR_STREAM("dropping " << problem.describe() << repeats);
+    NODELET_ERROR_STREAM("dropping " << problem.describeInFull() << repeats);
   else
-    NODELET_WARN_STREAM(problem.describe() << repeats);
+    NODELET_WARN_STREAM(problem.describeInFull() << repeats);
 }
 
 void PreFilterNodelet::processAndPublish(const core::SweepContext& context)
@@ -258,6 +362,7 @@ void PreFilterNodelet::processAndPublish(const core::SweepContext& context)
     objects_pub_.publish(outputs.objects);
   if (outputs.markers)
     markers_pub_.publish(outputs.markers);
+  legacy_.publish(ros_io::toHeader(context), pipeline_.sweep(), result, context.sensorOrigin());
 }
 
 }  // namespace ohm_mirror_detector3d

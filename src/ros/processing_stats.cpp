@@ -35,6 +35,12 @@ void ProcessingStats::recordDropped(const std::string& problem)
   last_problem_ = problem;
 }
 
+void ProcessingStats::recordPublisherProblem(const std::string& problem)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  publisher_problem_ = problem;
+}
+
 void ProcessingStats::report(diagnostic_updater::DiagnosticStatusWrapper& status, bool subscribed)
 {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -54,6 +60,8 @@ void ProcessingStats::report(diagnostic_updater::DiagnosticStatusWrapper& status
                     static_cast<unsigned long>(processed_), last_implausible_removal_.c_str());
   else if (received > 0)
     status.summary(DiagnosticStatus::OK, "processing sweeps");
+  else if (subscribed && !publisher_problem_.empty())
+    status.summaryf(DiagnosticStatus::ERROR, "no input can arrive: %s", publisher_problem_.c_str());
   else if (subscribed)
     status.summary(DiagnosticStatus::OK, "waiting for input");
   else

@@ -177,10 +177,18 @@ TEST(ParamTable, StartUpRowsAreNotPipelineFieldsAndAreNotReconfigurable)
     }
   }
   for (const char* name : { "input_mode", "azimuth_resolution_deg", "sensor_frame", "sweep_frame", "sweep_period",
-                            "rotation_axis", "sub_input_scan", "pub_labelled", "pub_cleaned", "pub_objects",
-                            "pub_markers", "diagnostic_period" })
+                            "rotation_axis", "approximate_sync", "sub_input_scan", "pub_labelled", "pub_cleaned",
+                            "pub_objects", "pub_markers", "diagnostic_period" })
     EXPECT_EQ(names.count(name), 1u) << name;
-  EXPECT_STREQ(core::findParameter("pub_scan")->name, "pub_cleaned");
+  // The original's output names are rows of their own, with the original's meaning: pub_scan is
+  // its prefiltered scan, no other name of ~cleaned.
+  for (const char* name : { "pub_scan", "pub_object", "pub_transp", "pub_mirror", "pub_affected", "pub_behTransp",
+                            "pub_behMirror", "pub_backprojMirror", "pub_cleaned", "pub_marker" })
+  {
+    ASSERT_NE(core::findParameter(name), nullptr) << name;
+    EXPECT_STREQ(core::findParameter(name)->name, name);
+    EXPECT_TRUE(core::findParameter(name)->aliases.empty()) << name;
+  }
 }
 
 TEST(ParamTable, TheAzimuthResolutionRowIsWhatItsCheckAccepts)

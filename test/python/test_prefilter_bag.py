@@ -285,6 +285,44 @@ def test_one_message_per_sweep_modes(binary, ros_messages, tmp_path, mode, fmt, 
     assert_finds_the_mirror(in_bag, out_bag)
 
 
+def test_without_input_mode_the_type_in_the_bag_chooses_the_mode(binary, ros_messages, tmp_path):
+    """As the nodelet without input_mode: ohm_hokuyo3d/CoordDistMulti is read as hokuyo3d_legacy, with the
+    same outputs as when the mode is given; a type that needs a mode of its own names that mode."""
+    legacy_bag, chosen, forced = tmp_path / 'legacy.bag', tmp_path / 'chosen.bag', tmp_path / 'forced.bag'
+    synthesize(legacy_bag, '--format', 'hokuyo3d_legacy', '--scans', '60')
+    params = tmp_path / 'params.yaml'
+    with open(PARAMS) as f:
+        params.write_text(f.read().replace('input_mode: pair\n', ''))
+    p = run(binary, legacy_bag, chosen, '--params', params)
+    assert 'no --input-mode given: /coord_dist holds ohm_hokuyo3d/CoordDistMulti, read as input mode ' \
+           'hokuyo3d_legacy' in p.stderr
+    assert 'sweeps processed: 2' in p.stderr
+    run(binary, legacy_bag, forced, '--params', params, '--input-mode', 'hokuyo3d_legacy')
+    assert read_raw(chosen, OUTPUTS) == read_raw(forced, OUTPUTS)
+
+    cloud_bag = tmp_path / 'cloud.bag'
+    synthesize(cloud_bag, '--format', 'dual_return_cloud', '--model', 'dual_return', '--scans', '16')
+    p = run(binary, cloud_bag, tmp_path / 'out.bag', check=False)
+    assert p.returncode == 1 and 'has none of /echo_pair, /coord_dist' in p.stderr, p.stderr
+    p = run(binary, cloud_bag, tmp_path / 'out.bag', '--input-topic', '/points', check=False)
+    assert p.returncode == 1
+    assert 'its type sensor_msgs/PointCloud2 is not read without input_mode' in p.stderr
+    assert 'it has a return and a ring field: input_mode dual_return reads one cloud' in p.stderr
+    assert_no_output(tmp_path / 'out.bag')
+
+
+def test_every_parameter_it_does_not_use_gets_a_warning(binary, bags, tmp_path):
+    params = tmp_path / 'params.yaml'
+    with open(PARAMS) as f:
+        params.write_text(f.read() + 'source_frame: laser\noutlierFilter_minNeighbours: 5\nsweep_frame: base_link\n')
+    p = run(binary, bags['in'], tmp_path / 'out.bag', '--params', params)
+    warnings = [line for line in p.stderr.splitlines() if line.startswith('prefilter_bag: warning: parameter ')]
+    assert len(warnings) == 3, p.stderr
+    assert 'source_frame (in %s) is no parameter of the pre-filter' % params in warnings[0]
+    assert 'did you mean outlierFilter_minNeighbors?' in warnings[1]
+    assert 'sweep_frame (in %s) is not used with prefilter_bag' % params in warnings[2]
+
+
 def test_multi_echo_scan_mode(binary, ros_messages, tmp_path):
     in_bag, out_bag = tmp_path / 'in.bag', tmp_path / 'out.bag'
     synthesize(in_bag, '--format', 'multi_echo_scan', '--scans', '100')

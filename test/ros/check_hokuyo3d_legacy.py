@@ -11,8 +11,11 @@ import unittest
 import numpy as np
 import rospy
 import rostest
+from visualization_msgs.msg import Marker
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'legacy_msgs'))
+import legacy_msgs  # noqa: E402
 from output_client import OutputClient  # noqa: E402
 
 from ohm_mirror_detector3d import ros_io, scene as scenes  # noqa: E402
@@ -35,13 +38,26 @@ class Hokuyo3dLegacy(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('check_hokuyo3d_legacy')
         classes = legacy_classes()
+        # In hokuyo3d_legacy mode the original's outputs are published under ~legacy/, in its types;
+        # these subscribers know only the original's definitions (test/legacy_msgs).
+        cls.legacy = {}
+        point_set = legacy_msgs.message_class('ohm_hokuyo3d/CoordDist')
+        legacy_subscribers = [rospy.Subscriber('prefilter/legacy/' + name, kind,
+                                               lambda message, topic: cls.legacy.setdefault(topic, message),
+                                               callback_args=name, queue_size=1, buff_size=2 ** 26)
+                              for name, kind in (('mirror', point_set), ('behMirror', point_set),
+                                                 ('backprojMirror', point_set), ('marker', Marker))]
         cls.client = OutputClient('coord_dist', classes[LEGACY_TYPE])
         cls.sweep = simulate_sweep(scenes.get('experiment1'), RotatingHokuyo(scans=300, range_noise=0.01), seed=1,
                                    physics=PHYSICS)
         header = ros_io.make_header(rospy.Time(3000, 500), 'laser')
         header.seq = 42
         cls.outputs = cls.client.run(legacy_message(cls.sweep, header, classes), stamp=header.stamp)
+        deadline = rospy.Time.now() + rospy.Duration(30.0)
+        while len(cls.legacy) < len(legacy_subscribers) and rospy.Time.now() < deadline:
+            rospy.sleep(0.1)
         cls.labelled = ros_io.cloud_to_array(cls.outputs['labelled'])
+        cls.cleaned = ros_io.cloud_to_array(cls.outputs['cleaned'])
         output = ros_io.filter_output_from_msgs(cls.outputs['labelled'], cls.outputs['cleaned'],
                                                 cls.outputs['objects'])
         cls.result = evaluate_sweep(cls.sweep.ground_truth, output['labelled'], output['cleaned'],
@@ -81,6 +97,27 @@ class Hokuyo3dLegacy(unittest.TestCase):
         self.assertLessEqual(self.result['phantom_wrong_place_fraction'], 0.01)
         self.assertLess(self.result['backprojection_error']['median'], 0.03)
         self.assertLessEqual(self.result['real_lost_fraction'], 0.005)
+
+
+    def test_the_originals_outputs_hold_the_mirror_its_phantoms_and_its_outline(self):
+        self.assertEqual(sorted(self.legacy), ['backprojMirror', 'behMirror', 'marker', 'mirror'])
+        n = self.sweep.num_beams
+        labels = self.labelled['label'].reshape(2, n)
+        xyz = np.stack([self.labelled[c] for c in 'xyz'], axis=1).reshape(2, n, 3)
+        for topic, label in (('mirror', 4), ('behMirror', 5)):  # reflectiveSurface, behindReflective
+            chosen = labels == label
+            chosen[1] &= ~(chosen[0] & np.all(xyz[0] == xyz[1], axis=1))
+            expected = xyz.transpose(1, 0, 2).reshape(-1, 3)[chosen.T.ravel()]
+            self.assertGreater(len(expected), 100, topic)
+            np.testing.assert_array_equal(np.asarray(self.legacy[topic].coord.coords, np.float32).reshape(-1, 3),
+                                          expected)
+        phantoms = self.cleaned[self.cleaned['label'] == 5]
+        np.testing.assert_array_equal(np.asarray(self.legacy['backprojMirror'].coord.coords, np.float32).reshape(-1, 3),
+                                      np.stack([phantoms[c] for c in 'xyz'], axis=1))
+        marker = self.legacy['marker']
+        self.assertEqual((marker.type, len(marker.points)), (Marker.LINE_LIST, 8))  # the one mirror
+        corners = [(c.x, c.y, c.z) for c in self.outputs['objects'].objects[0].corners]
+        np.testing.assert_allclose([(p.x, p.y, p.z) for p in marker.points[::2]], corners, atol=1e-5)
 
 
 if __name__ == '__main__':

@@ -1,13 +1,17 @@
 #!/usr/bin/python3
 """rostest checker of launch_files.test: every pre-filter the launch files started is alive,
 advertises its four outputs, subscribes to the input topic the user gave once an output is
-listened to, and nothing logged an error; colour_labels is wired to the pre-filter it was given."""
+listened to, and nothing logged an error; colour_labels is wired to the pre-filter it was given;
+a launch file for a kind of sensor loads that sensor's parameter file."""
+import os
 import time
 import unittest
 
 import rosgraph
+import rospkg
 import rospy
 import rostest
+import yaml
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import PointCloud2
 
@@ -80,6 +84,22 @@ class LaunchFiles(unittest.TestCase):
         node = self.viewer['node']
         self.assertIn(node, nodes_of(subscribers, self.viewer['input']))
         self.assertIn(node, nodes_of(publishers, self.viewer['output']))
+
+    def test_each_launch_file_loads_the_parameters_of_its_sensor(self):
+        launch = os.path.join(rospkg.RosPack().get_path('ohm_mirror_detector3d'), 'launch')
+        checked = 0
+        for instance in self.instances:
+            if 'params' not in instance:
+                continue
+            with open(os.path.join(launch, instance['params'])) as file:
+                wanted = yaml.safe_load(file)
+            for name, value in wanted.items():
+                if name in instance.get('set_by_arguments', []):
+                    continue
+                self.assertEqual(rospy.get_param(instance['node'] + '/' + name), value,
+                                 '%s: %s is not that of %s' % (instance['node'], name, instance['params']))
+                checked += 1
+        self.assertGreater(checked, 0)
 
     def test_nothing_logged_an_error(self):
         self.assertEqual(self.errors, [])

@@ -12,10 +12,15 @@
 #include <string>
 #include <vector>
 
+#include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/MultiEchoLaserScan.h>
+
 #include "ohm_mirror_detector3d/EchoPair.h"
 #include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
+#include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
 #include "ohm_mirror_detector3d/ros/input_mode.h"
+#include "ohm_mirror_detector3d/ros/legacy_output.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
 #include "ohm_mirror_detector3d/ros/sensor_pose_queue.h"
 #include "ohm_mirror_detector3d/ros/sweep_input.h"
@@ -37,10 +42,12 @@ public:
     contexts.push_back(context);
   }
   void inputProblem(const InputProblem& problem) override { problems.push_back(problem); }
+  void inputTypeFound(const ros_io::FoundInputType& type) override { types.push_back(type); }
 
   std::vector<std::size_t> beams;
   std::vector<core::SweepContext> contexts;
   std::vector<InputProblem> problems;
+  std::vector<ros_io::FoundInputType> types;
 };
 
 sensor_msgs::PointCloud2 echoCloud(const std::string& frame, double stamp, std::size_t points, float range)
@@ -82,14 +89,21 @@ std::vector<std::uint8_t> serialized(const M& message)
 }
 
 // What rosbag records beside a message of type M.
+boost::shared_ptr<ros::M_string> connectionHeader(const std::string& type, const std::string& md5sum,
+                                                  const std::string& definition)
+{
+  auto header = boost::make_shared<ros::M_string>();
+  (*header)["type"] = type;
+  (*header)["md5sum"] = md5sum;
+  (*header)["message_definition"] = definition;
+  return header;
+}
+
 template <typename M>
 boost::shared_ptr<ros::M_string> connectionHeader()
 {
-  auto header = boost::make_shared<ros::M_string>();
-  (*header)["type"] = ros::message_traits::datatype<M>();
-  (*header)["md5sum"] = ros::message_traits::md5sum<M>();
-  (*header)["message_definition"] = ros::message_traits::definition<M>();
-  return header;
+  return connectionHeader(ros::message_traits::datatype<M>(), ros::message_traits::md5sum<M>(),
+                          ros::message_traits::definition<M>());
 }
 
 geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child, double stamp,
@@ -172,7 +186,7 @@ TEST(InputModes, OneTableNamesEveryModeWithTheTopicsAndTypesItReads)
 
 // The input_mode row of the parameter table (which the README's table is made from) names the
 // modes in words: they must be the input-mode table's, and its default the table's first mode.
-TEST(InputModes, TheInputModeParameterNamesTheTablesModesAndItsDefaultIsTheFirst)
+TEST(InputModes, TheInputModeParameterNamesTheTablesModesAndWhatItsAbsenceChoosesFrom)
 {
   std::string names;
   for (const ros_io::InputMode& mode : ros_io::inputModes())
@@ -180,7 +194,11 @@ TEST(InputModes, TheInputModeParameterNamesTheTablesModesAndItsDefaultIsTheFirst
   const core::ParamInfo* row = core::findParameter("input_mode");
   ASSERT_NE(row, nullptr);
   EXPECT_EQ(std::string(row->allowed), names);
-  EXPECT_STREQ(row->default_value.text, ros_io::inputModes().front().name);
+  // Not set, the type on the topic chooses among runTimeChoices(): the row's default says which.
+  EXPECT_STREQ(row->default_value.text, "");
+  const std::string when_unset = row->default_value.when_unset;
+  for (const ros_io::InputMode* mode : ros_io::runTimeChoices())
+    EXPECT_NE(when_unset.find(std::string("`") + mode->name + "`"), std::string::npos) << mode->name;
 }
 
 TEST(InputModes, ARecordedEchoPairBecomesASweepWithTheStampAndFrameOfItsHeader)
@@ -246,6 +264,234 @@ TEST(InputModes, TwoTopicsPairsCloudsOfTheSameStampAndReportsThoseWithoutPartner
   ASSERT_EQ(recorder.problems.size(), 3u);
   EXPECT_EQ(recorder.problems[2].text, "cloud on /b has no cloud on /a with the same stamp");
   EXPECT_EQ(recorder.contexts.size(), 2u);
+}
+
+TEST(InputModes, TwoTopicsSaysHowFarApartTheCloudsThatDoNotPairAre)
+{
+  tf2::BufferCore tf;
+  Recorder recorder;
+  ros_io::InputOptions options;
+  options.echo1_topic = "/a";
+  options.echo2_topic = "/b";
+  ros_io::SweepInput input(*ros_io::findInputMode("two_topics"), options, tf, recorder, []() { return 0.0; });
+  const auto header = connectionHeader<sensor_msgs::PointCloud2>();
+  const auto add = [&](int side, double stamp) {
+    input.addSerialized(*input.topics()[side], serialized(echoCloud("laser", stamp, 4, 2.0f + side)), header);
+  };
+  // A driver whose two returns are stamped 12 ms apart never pairs with equal stamps.
+  for (int k = 0; k < 4; ++k)
+  {
+    add(0, 1.0 + k);
+    add(1, 1.012 + k);
+  }
+  EXPECT_TRUE(recorder.contexts.empty());
+  ASSERT_GE(recorder.problems.size(), 2u);
+  const InputProblem& first = recorder.problems[0];
+  EXPECT_EQ(first.text, "cloud on /a has no cloud on /b with the same stamp");
+  EXPECT_EQ(first.detail, "its stamp 1 s; the nearest there is 0.012 s later: approximate_sync pairs clouds that far "
+                          "apart; 1 unpaired so far");
+  EXPECT_NE(recorder.problems.back().detail.find(std::to_string(recorder.problems.size()) + " unpaired so far"),
+            std::string::npos);
+
+  // approximate_sync pairs them.
+  Recorder paired;
+  options.approximate_sync = 0.02;
+  ros_io::SweepInput approximate(*ros_io::findInputMode("two_topics"), options, tf, paired, []() { return 0.0; });
+  EXPECT_NE(approximate.describe().find("at most 0.02 s"), std::string::npos);
+  for (int k = 0; k < 4; ++k)
+  {
+    approximate.addSerialized(*approximate.topics()[0], serialized(echoCloud("laser", 1.0 + k, 4, 2.0f)), header);
+    approximate.addSerialized(*approximate.topics()[1], serialized(echoCloud("laser", 1.012 + k, 4, 3.0f)), header);
+  }
+  // The approximate synchroniser publishes a pair once a later cloud shows it is the best.
+  EXPECT_GE(paired.contexts.size(), 3u);
+  EXPECT_TRUE(paired.problems.empty());
+  // A cloud farther away than that has no partner: reported when a later pair is complete.
+  approximate.addSerialized(*approximate.topics()[0], serialized(echoCloud("laser", 10.0, 4, 2.0f)), header);
+  approximate.addSerialized(*approximate.topics()[0], serialized(echoCloud("laser", 11.0, 4, 2.0f)), header);
+  approximate.addSerialized(*approximate.topics()[1], serialized(echoCloud("laser", 10.5, 4, 3.0f)), header);
+  approximate.addSerialized(*approximate.topics()[1], serialized(echoCloud("laser", 11.005, 4, 3.0f)), header);
+  approximate.addSerialized(*approximate.topics()[0], serialized(echoCloud("laser", 12.0, 4, 2.0f)), header);
+  approximate.addSerialized(*approximate.topics()[1], serialized(echoCloud("laser", 12.0, 4, 3.0f)), header);
+  ASSERT_FALSE(paired.problems.empty());
+  EXPECT_EQ(paired.problems[0].text, "cloud on /a has no cloud on /b within approximate_sync 0.02 s");
+
+  // Its value is read and checked as the mode's start-up parameter.
+  class Negative : public ros_io::ParamSource
+  {
+  public:
+    bool has(const std::string& name) const override { return name == "approximate_sync"; }
+    bool get(const std::string& name, double& value) const override { return has(name) && (value = -1.0, true); }
+    bool get(const std::string&, int&) const override { return false; }
+    bool get(const std::string&, std::string&) const override { return false; }
+    bool get(const std::string&, std::vector<double>&) const override { return false; }
+    std::string describe(const std::string& name) const override { return "~" + name; }
+  } negative;
+  std::vector<std::string> errors;
+  ros_io::readInputOptions(negative, *ros_io::findInputMode("two_topics"), options, errors);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("approximate_sync = -1"), std::string::npos);
+}
+
+TEST(InputModes, EchoesInDifferentFramesAreRefusedNamingBoth)
+{
+  tf2::BufferCore tf;
+  Recorder recorder;
+  ros_io::InputOptions options;
+  ros_io::SweepInput input(*ros_io::findInputMode("pair"), options, tf, recorder, []() { return 0.0; });
+  EchoPair pair = echoPair("laser", 3.0);
+  pair.echo2.header.frame_id = "laser_2";
+  input.addSerialized(*input.topics()[0], serialized(pair), connectionHeader<EchoPair>());
+  ASSERT_EQ(recorder.problems.size(), 1u);
+  EXPECT_EQ(recorder.problems[0].text,
+            "echo1 is in frame 'laser' but echo2 in frame 'laser_2'; both echoes must be in one frame");
+  pair = echoPair("laser", 4.0);
+  pair.header.frame_id = "base_link";
+  input.addSerialized(*input.topics()[0], serialized(pair), connectionHeader<EchoPair>());
+  ASSERT_EQ(recorder.problems.size(), 2u);
+  EXPECT_EQ(recorder.problems[1].text,
+            "echo1 is in frame 'laser' but the EchoPair in frame 'base_link'; both echoes must be in one frame");
+  // Clouds without a frame take the pair's.
+  pair = echoPair("", 5.0);
+  pair.header.frame_id = "laser";
+  input.addSerialized(*input.topics()[0], serialized(pair), connectionHeader<EchoPair>());
+  EXPECT_EQ(recorder.problems.size(), 2u);
+  ASSERT_EQ(recorder.contexts.size(), 1u);
+  EXPECT_EQ(recorder.contexts[0].frame_id, "laser");
+
+  Recorder two;
+  options.echo1_topic = "/a";
+  options.echo2_topic = "/b";
+  ros_io::SweepInput clouds(*ros_io::findInputMode("two_topics"), options, tf, two, []() { return 0.0; });
+  const auto header = connectionHeader<sensor_msgs::PointCloud2>();
+  clouds.addSerialized(*clouds.topics()[0], serialized(echoCloud("laser", 1.0, 4, 2.0f)), header);
+  clouds.addSerialized(*clouds.topics()[1], serialized(echoCloud("laser_2", 1.0, 4, 3.0f)), header);
+  ASSERT_EQ(two.problems.size(), 1u);
+  EXPECT_EQ(two.problems[0].text, "/a is in frame 'laser' but /b in frame 'laser_2'; both echoes must be in one frame");
+  EXPECT_TRUE(two.contexts.empty());
+}
+
+// A message of the original driver's type, as its connection gives it: bytes and header.
+struct LegacyMessage
+{
+  std::vector<std::uint8_t> bytes;
+  boost::shared_ptr<ros::M_string> header;
+};
+
+LegacyMessage legacyMessage(std::size_t beams, double stamp)
+{
+  core::Sweep sweep = sweepOfBeams(beams);
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < beams; ++i)
+    {
+      sweep.echoes[k].points[i] = Eigen::Vector3f(2.0f + k, 0.1f * i, 0.0f);
+      sweep.echoes[k].intensities[i] = 1.0f;
+    }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  ros_io::LegacyScanWriter writer;
+  std_msgs::Header header;
+  header.frame_id = "laser";
+  header.stamp.fromSec(stamp);
+  const topic_tools::ShapeShifter::Ptr message = writer.write(header, sweep);
+  LegacyMessage legacy;
+  legacy.bytes.resize(message->size());
+  ros::serialization::OStream stream(legacy.bytes.data(), static_cast<std::uint32_t>(legacy.bytes.size()));
+  message->write(stream);
+  legacy.header = connectionHeader(writer.type().datatype, writer.type().md5sum, writer.type().definition);
+  return legacy;
+}
+
+TEST(InputModes, WithoutInputModeTheTypeOfTheMessagesChoosesTheMode)
+{
+  tf2::BufferCore tf;
+  Recorder recorder;
+  ros_io::InputOptions options;
+  options.input_topic = "/dist_coord_multi";
+  ros_io::SweepInput input(ros_io::runTimeInputMode(), options, tf, recorder, []() { return 0.0; });
+  ASSERT_EQ(input.topics().size(), 1u);
+  const ros_io::InputTopic& topic = *input.topics()[0];
+  EXPECT_EQ(topic.name, "/dist_coord_multi");
+  EXPECT_EQ(topic.md5sum, "*");
+
+  // An EchoPair is read as in input_mode pair.
+  input.addSerialized(topic, serialized(echoPair("laser", 1.0, 5)), connectionHeader<EchoPair>());
+  ASSERT_EQ(recorder.contexts.size(), 1u);
+  EXPECT_EQ(recorder.beams[0], 5u);
+  ASSERT_EQ(recorder.types.size(), 1u);
+  EXPECT_EQ(recorder.types[0].mode, "pair");
+  EXPECT_EQ(recorder.types[0].datatype, "ohm_mirror_detector3d/EchoPair");
+
+  // The original driver's CoordDistMulti as in hokuyo3d_legacy; its definition goes on.
+  const LegacyMessage legacy = legacyMessage(7, 2.0);
+  input.addSerialized(topic, legacy.bytes, legacy.header);
+  ASSERT_EQ(recorder.contexts.size(), 2u);
+  EXPECT_EQ(recorder.beams[1], 7u);
+  EXPECT_EQ(recorder.contexts[1].stamp_ns, 2000000000ull);
+  ASSERT_GE(recorder.types.size(), 2u);
+  EXPECT_EQ(recorder.types.back().mode, "hokuyo3d_legacy");
+  EXPECT_EQ(recorder.types.back().definition, (*legacy.header)["message_definition"]);
+  EXPECT_TRUE(recorder.problems.empty());
+
+  // Any other type: dropped, naming it and the mode that reads it.
+  sensor_msgs::MultiEchoLaserScan scan;
+  input.addSerialized(topic, serialized(scan), connectionHeader<sensor_msgs::MultiEchoLaserScan>());
+  ASSERT_EQ(recorder.problems.size(), 1u);
+  EXPECT_TRUE(recorder.problems[0].dropped);
+  EXPECT_EQ(recorder.problems[0].topic, "/dist_coord_multi");
+  EXPECT_EQ(recorder.problems[0].text,
+            "its type sensor_msgs/MultiEchoLaserScan is not read without input_mode (that reads "
+            "ohm_mirror_detector3d/EchoPair as pair and ohm_hokuyo3d/CoordDistMulti as hokuyo3d_legacy); input_mode "
+            "multi_echo_scan reads it, with sweep_frame (the fixed frame the rotating unit turns in, e.g. base_link)");
+  EXPECT_EQ(recorder.contexts.size(), 2u);
+}
+
+TEST(InputModes, AMismatchNamesTheModeThatReadsTheType)
+{
+  sensor_msgs::PointCloud2 lidar = echoCloud("lidar", 1.0, 3, 2.0f);
+  sensor_msgs::PointCloud2Modifier(lidar).setPointCloud2Fields(
+      5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
+      sensor_msgs::PointField::FLOAT32, "return", 1, sensor_msgs::PointField::UINT8, "ring", 1,
+      sensor_msgs::PointField::UINT16);
+  const auto shapeShifterOf = [](const sensor_msgs::PointCloud2& cloud) {
+    topic_tools::ShapeShifter shifter;
+    shifter.morph(ros::message_traits::md5sum<sensor_msgs::PointCloud2>(),
+                  ros::message_traits::datatype<sensor_msgs::PointCloud2>(),
+                  ros::message_traits::definition<sensor_msgs::PointCloud2>(), "0");
+    std::vector<std::uint8_t> bytes = serialized(cloud);
+    ros::serialization::IStream stream(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+    shifter.read(stream);
+    return shifter;
+  };
+  const std::string cloud_type = "sensor_msgs/PointCloud2";
+  const topic_tools::ShapeShifter with_rings = shapeShifterOf(lidar);
+  EXPECT_EQ(ros_io::modeThatReads(cloud_type, "", &with_rings).find("it has a return and a ring field: input_mode "
+                                                                     "dual_return reads one cloud"),
+            0u);
+  const topic_tools::ShapeShifter plain = shapeShifterOf(echoCloud("lidar", 1.0, 3, 2.0f));
+  EXPECT_EQ(ros_io::modeThatReads(cloud_type, "", &plain),
+            "it has no return and ring fields: input_mode two_topics reads two clouds, the first echo on ~echo1 and "
+            "the second on ~echo2");
+  // Without a message (a publisher's type from the master): both.
+  EXPECT_NE(ros_io::modeThatReads(cloud_type).find("dual_return"), std::string::npos);
+  EXPECT_NE(ros_io::modeThatReads(cloud_type).find("two_topics"), std::string::npos);
+  EXPECT_EQ(ros_io::modeThatReads("ohm_mirror_detector3d/EchoPair"), "input_mode pair reads it");
+  EXPECT_EQ(ros_io::modeThatReads(ros_io::kLegacyScanDatatype, ros_io::builtinLegacyScanDefinition()),
+            "input_mode hokuyo3d_legacy reads it");
+  EXPECT_NE(ros_io::modeThatReads("sensor_msgs/LaserScan").find("holds one echo per beam"), std::string::npos);
+  EXPECT_NE(ros_io::modeThatReads("std_msgs/String").find("no input mode reads it"), std::string::npos);
+
+  // An EchoPair of another definition is named as such.
+  const ros_io::InputTypeMatch other =
+      ros_io::matchInputType("ohm_mirror_detector3d/EchoPair", "0123456789abcdef0123456789abcdef", "");
+  EXPECT_EQ(other.mode, nullptr);
+  EXPECT_NE(other.problem.find("another version of the message"), std::string::npos);
+  // A type of the driver's name but not its layout.
+  const ros_io::InputTypeMatch broken = ros_io::matchInputType(ros_io::kLegacyScanDatatype, "*", "int32 x\n");
+  EXPECT_EQ(broken.mode, nullptr);
+  EXPECT_NE(broken.problem.find("has no field 'coorddist'"), std::string::npos);
+  // Any type of the driver's layout is read as hokuyo3d_legacy, whatever its name.
+  EXPECT_EQ(ros_io::matchInputType("ohm_hokuyo3d/Tuple", "*", ros_io::builtinLegacyScanDefinition()).mode,
+            ros_io::findInputMode("hokuyo3d_legacy"));
 }
 
 TEST(InputModes, SensorFrameGoesThroughTheWaitForTheScannersPose)

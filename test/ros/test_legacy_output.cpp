@@ -24,6 +24,9 @@
 #include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
 #include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
 #include "ohm_mirror_detector3d/ros/legacy_output.h"
+#include "ohm_mirror_detector3d/ros/legacy_outputs.h"
+#include "ohm_mirror_detector3d/core/param_table.h"
+#include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/message_walker.h"
 
 namespace ohm_mirror_detector3d
@@ -181,6 +184,28 @@ TEST(LegacyOutput, ScanRoundTripsThroughTheHokuyo3dLegacyDecoder)
             (std::vector<std::uint32_t>{ 1 }));
 }
 
+TEST(LegacyOutput, TheDecoderRefusesEchoesInDifferentFramesNamingBoth)
+{
+  ros_io::LegacyScanWriter writer;
+  const topic_tools::ShapeShifter::Ptr message = writer.write(header("laser"), threeBeamSweep());
+  std::vector<std::uint8_t> bytes = bytesOf(*message);
+  ros_io::MessageDefinition definition;
+  ASSERT_EQ(definition.parse(message->getDataType(), message->getMessageDefinition()), "");
+  std::map<std::string, FieldLocation> at;
+  ASSERT_EQ(ros_io::walkMessage(definition, bytes.data(), bytes.size(), at), "");
+  const FieldLocation& second_frame = at.at("coorddist[1].coord.header.frame_id");
+  ASSERT_EQ(second_frame.count, 5u);
+  bytes[second_frame.offset + 4] = 'R';  // "laseR": another frame of the same length
+
+  ros_io::Hokuyo3dLegacyDecoder decoder;
+  core::Sweep decoded;
+  std_msgs::Header decoded_header;
+  EXPECT_EQ(decoder.decode(message->getDataType(), message->getMessageDefinition(), bytes.data(), bytes.size(),
+                           decoded, decoded_header),
+            "'coorddist[1].coord.header.frame_id' is 'laseR' but 'coorddist[0].coord.header.frame_id' is 'laser'; "
+            "both echoes must be in one frame");
+}
+
 TEST(LegacyOutput, ScanMasksOutPointsLabelledNanPoint)
 {
   ros_io::LegacyScanWriter writer;
@@ -335,6 +360,133 @@ TEST(LegacyOutput, RefusesDefinitionsThatDoNotFitAndKeepsTheOneInUse)
   EXPECT_EQ(writer.type().md5sum, builtin.md5sum);
   EXPECT_EQ(writer.type().definition, builtin.definition);
   EXPECT_EQ(writer.write(header("laser"), somePoints())->getMD5Sum(), builtin.md5sum);
+}
+
+// A sweep of six beams with one echo each labelled as the original's point sets select them,
+// and what the pipeline would have made of it.
+struct LabelledSweep
+{
+  core::Sweep sweep;
+  core::PipelineResult result;
+};
+
+LabelledSweep labelledSweep()
+{
+  using core::Label;
+  LabelledSweep labelled;
+  core::Sweep& sweep = labelled.sweep;
+  sweep.resize(1, 6);
+  const Label echo1[6] = { Label::valid, Label::reflectiveSurface, Label::transparentSurface, Label::errorSurface,
+                           Label::valid, Label::nanPoint };
+  const Label echo2[6] = { Label::valid, Label::behindReflective, Label::behindTransparent, Label::behindErrorS,
+                           Label::error, Label::nanPoint };
+  labelled.result.labels.reset(6);
+  for (std::size_t i = 0; i < 6; ++i)
+  {
+    sweep.echoes[0].points[i] = Eigen::Vector3f(1.0f + i, 0.0f, 0.0f);
+    sweep.echoes[1].points[i] = Eigen::Vector3f(1.0f + i, 1.0f, 0.0f);
+    sweep.echoes[0].intensities[i] = 10.0f + i;
+    sweep.echoes[1].intensities[i] = 20.0f + i;
+    labelled.result.labels.echoes[0][i] = echo1[i];
+    labelled.result.labels.echoes[1][i] = echo2[i];
+  }
+  // A single return repeated in echo 2 (beam 0): once in a point set.
+  sweep.echoes[1].points[0] = sweep.echoes[0].points[0];
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  labelled.result.cleaned = { core::OutputPoint{ Eigen::Vector3f(1, 0, 0), 10.0f, Label::valid, 1, 0 },
+                              core::OutputPoint{ Eigen::Vector3f(-2, 1, 0), 21.0f, Label::behindReflective, 2, 1 } };
+  return labelled;
+}
+
+std::vector<std::uint32_t> beamsOf(const std::vector<core::OutputPoint>& points, std::vector<int>* echoes = nullptr)
+{
+  std::vector<std::uint32_t> beams;
+  for (const core::OutputPoint& point : points)
+  {
+    beams.push_back(point.beam);
+    if (echoes != nullptr)
+      echoes->push_back(point.echo);
+  }
+  return beams;
+}
+
+TEST(LegacyOutputs, ThePointSetsHoldThePointsTheOriginalsCommentsGiveThem)
+{
+  const LabelledSweep labelled = labelledSweep();
+  std::vector<core::OutputPoint> points;
+  const auto beams = [&](ros_io::LegacyContent content, std::vector<int>* echoes = nullptr) {
+    ros_io::collectLegacyPoints(content, labelled.sweep, labelled.result, points);
+    return beamsOf(points, echoes);
+  };
+  using Beams = std::vector<std::uint32_t>;
+  EXPECT_EQ(beams(ros_io::LegacyContent::object), (Beams{ 1, 2, 3 }));  // mirror, glass and unknown surfaces
+  EXPECT_EQ(beams(ros_io::LegacyContent::mirror), (Beams{ 1 }));
+  EXPECT_EQ(beams(ros_io::LegacyContent::transparent), (Beams{ 2 }));
+  std::vector<int> echoes;
+  EXPECT_EQ(beams(ros_io::LegacyContent::affected, &echoes), (Beams{ 1, 2, 3 }));  // behind any of them
+  EXPECT_EQ(echoes, (std::vector<int>{ 2, 2, 2 }));
+  EXPECT_EQ(beams(ros_io::LegacyContent::behind_mirror), (Beams{ 1 }));
+  // Measured positions, not back-projected.
+  EXPECT_EQ(points[0].position, labelled.sweep.echoes[1].points[1]);
+  EXPECT_EQ(points[0].intensity, 21.0f);
+  EXPECT_EQ(beams(ros_io::LegacyContent::behind_transparent), (Beams{ 2 }));
+  // The back-projected phantoms and the cleaned points are those of the cleaned output.
+  EXPECT_EQ(beams(ros_io::LegacyContent::back_projected), (Beams{ 1 }));
+  EXPECT_EQ(points[0].position, Eigen::Vector3f(-2, 1, 0));
+  EXPECT_EQ(beams(ros_io::LegacyContent::cleaned), (Beams{ 0, 1 }));
+}
+
+TEST(LegacyOutputs, OneParameterPerOutputOfTheOriginalInTheParameterTable)
+{
+  std::vector<std::string> names;
+  for (const ros_io::LegacyOutput& output : ros_io::legacyOutputs())
+  {
+    names.push_back(output.parameter);
+    const core::ParamInfo* row = core::findParameter(output.parameter);
+    ASSERT_NE(row, nullptr) << output.parameter;
+    EXPECT_EQ(row->scope, core::ParamScope::node);
+    EXPECT_EQ(std::string(row->default_value.when_unset).find(std::string("`~") + output.default_topic + "`"),
+              std::string("not published; ").size())
+        << output.parameter;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{ "pub_scan", "pub_object", "pub_transp", "pub_mirror", "pub_affected",
+                                              "pub_behTransp", "pub_behMirror", "pub_backprojMirror", "pub_cleaned",
+                                              "pub_marker" }));
+}
+
+TEST(LegacyOutputs, TheMarkerOutlinesEveryObjectInItsColourAndIsDeletedWithoutObjects)
+{
+  std_msgs::Header header;
+  header.frame_id = "laser";
+  visualization_msgs::Marker marker;
+  ros_io::toLegacyMarker(header, {}, marker);
+  EXPECT_EQ(marker.action, visualization_msgs::Marker::DELETE);
+  EXPECT_TRUE(marker.points.empty());
+
+  std::vector<core::ReflectiveObject> objects(2);
+  objects[0].type = core::ObjectType::mirror;
+  objects[0].centre = Eigen::Vector3f(2, 0, 0);
+  objects[0].width_axis = Eigen::Vector3f::UnitY();
+  objects[0].height_axis = Eigen::Vector3f::UnitZ();
+  objects[0].width = 0.6f;
+  objects[0].height = 0.4f;
+  objects[1] = objects[0];
+  objects[1].type = core::ObjectType::glass;
+  objects[1].centre = Eigen::Vector3f(4, 0, 0);
+  ros_io::toLegacyMarker(header, objects, marker);
+  EXPECT_EQ(marker.action, visualization_msgs::Marker::ADD);
+  EXPECT_EQ(marker.type, visualization_msgs::Marker::LINE_LIST);
+  EXPECT_EQ(marker.header.frame_id, "laser");
+  ASSERT_EQ(marker.points.size(), 16u);  // four sides of two rectangles
+  ASSERT_EQ(marker.colors.size(), 16u);
+  const std::array<Eigen::Vector3f, 4> corners = objects[0].corners();
+  for (std::size_t c = 0; c < 4; ++c)
+  {
+    EXPECT_FLOAT_EQ(marker.points[2 * c].y, corners[c].y());
+    EXPECT_FLOAT_EQ(marker.points[2 * c + 1].z, corners[(c + 1) % 4].z());
+  }
+  EXPECT_EQ(marker.colors[0], ros_io::objectColour(core::ObjectType::mirror));
+  EXPECT_EQ(marker.colors[8], ros_io::objectColour(core::ObjectType::glass));
 }
 
 }  // namespace

@@ -187,5 +187,53 @@ TEST(Parameters, TheStartUpReadersDefaultsAreTheTables)
   EXPECT_TRUE(refused);
 }
 
+TEST(Parameters, ARecordingSourceKnowsWhatWasAskedFor)
+{
+  MapParams values;
+  values.numbers["r"] = 0.2;
+  values.numbers["typo"] = 1.0;
+  const ros_io::RecordingParamSource source(values);
+  std::vector<std::string> errors;
+  const core::Params params = ros_io::readParams(source, errors);
+  EXPECT_EQ(params.outlier_radius, 0.2);
+  EXPECT_TRUE(source.wasAsked("r"));
+  EXPECT_TRUE(source.wasAsked("outlierFilter_searchRadius"));
+  EXPECT_FALSE(source.wasAsked("typo"));
+  EXPECT_FALSE(source.wasAsked("diagnostic_period"));
+  source.markUsed("diagnostic_period");
+  EXPECT_TRUE(source.wasAsked("diagnostic_period"));
+}
+
+TEST(Parameters, EveryUnusedNameGetsOneWarningSayingWhatItIs)
+{
+  const MapParams source;
+  const std::vector<std::string> warnings = ros_io::unusedParameterWarnings(
+      { "sweep_frame", "outlierFilter_minNeighbours", "source_frame" }, source, "input_mode pair");
+  ASSERT_EQ(warnings.size(), 3u);
+  // A parameter of the table that this mode does not read: what it is for.
+  EXPECT_EQ(warnings[0], "parameter ~sweep_frame is not used with input_mode pair and is ignored (it is: " +
+                             std::string(core::findParameter("sweep_frame")->doc) + ")");
+  // A typo: the name it is nearest to.
+  EXPECT_EQ(warnings[1], "parameter ~outlierFilter_minNeighbours is no parameter of the pre-filter and is ignored "
+                         "(did you mean outlierFilter_minNeighbors?)");
+  // A name of the original node that means nothing here.
+  EXPECT_EQ(warnings[2], "parameter ~source_frame is no parameter of the pre-filter and is ignored (a typo, or a "
+                         "name of the original node that has no meaning here)");
+  EXPECT_TRUE(ros_io::unusedParameterWarnings({}, source, "input_mode pair").empty());
+}
+
+TEST(Parameters, ARefusedReconfigureNamesTheValuesKeptAndOnlyThose)
+{
+  PreFilterConfig kept = PreFilterConfig::__getDefault__();
+  kept.outlierFilter_searchRadius = 0.2;
+  PreFilterConfig refused = kept;
+  refused.outlierFilter_searchRadius = -1.0;
+  refused.planeDetection_minAmountPoints = 2;
+  const std::vector<std::string> lines = ros_io::keptValues(kept, refused);
+  EXPECT_EQ(lines, (std::vector<std::string>{ "outlierFilter_searchRadius = 0.2 (not -1)",
+                                              "planeDetection_minAmountPoints = 100 (not 2)" }));
+  EXPECT_TRUE(ros_io::keptValues(kept, kept).empty());
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

@@ -23,7 +23,8 @@ struct BagToolOptions
 {
   std::string input_path;
   std::string output_path;
-  std::string input_mode = "pair";  // a name of inputModes()
+  // A name of inputModes(); "": the type on the input topic in the bag chooses (modeFromBag).
+  std::string input_mode;
   InputOptions input;
   core::Params params;
   std::string prefix = "/prefilter";  // outputs: prefix + /labelled, /cleaned, /objects, /markers

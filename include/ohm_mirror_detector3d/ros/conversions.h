@@ -3,6 +3,7 @@
 
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/ColorRGBA.h>
 #include <std_msgs/Header.h>
 
 #include <Eigen/Geometry>
@@ -58,6 +59,9 @@ void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::Outp
 
 void toObjectArray(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
                    ReflectiveObjectArray& array);
+
+// The colour of an object of `type` in rviz: mirror blue, glass turquoise, unknown yellow.
+std_msgs::ColorRGBA objectColour(core::ObjectType type);
 
 // A rectangle (line strip) per object coloured by type and a text with type and size,
 // preceded by a DELETEALL so that markers of objects that went away disappear.

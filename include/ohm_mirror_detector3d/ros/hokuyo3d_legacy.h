@@ -24,6 +24,15 @@ namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
+// The original driver's name of the type: "ohm_hokuyo3d/CoordDistMulti".
+extern const char* const kLegacyScanDatatype;
+
+// "" when the message definition `definition` of `datatype` has the layout above (a field
+// `coorddist`, an array of messages with `coord.coords` of type float32[]), whatever the type's
+// name; otherwise what it lacks, naming the field. The default input mode reads such a type
+// as hokuyo3d_legacy.
+std::string legacyLayoutProblem(const std::string& datatype, const std::string& definition);
+
 class Hokuyo3dLegacyDecoder
 {
 public:

@@ -14,12 +14,14 @@
 #include <ros/serialization.h>
 #include <ros/subscriber.h>
 #include <tf2/buffer_core.h>
+#include <topic_tools/shape_shifter.h>
 
 #include <cstdint>
 #include <exception>
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -41,6 +43,8 @@ struct InputOptions
   std::string input_topic;             // every mode but two_topics; empty: the mode's default_topic
   std::string echo1_topic = "/echo1";  // two_topics
   std::string echo2_topic = "/echo2";
+  // two_topics: 0 pairs clouds with equal stamps; > 0 those at most this many seconds apart.
+  double approximate_sync = 0.0;
   double azimuth_resolution_deg = core::kAzimuthStepFromCloud;  // dual_return
   MultiEchoScanOptions scan_options;                             // multi_echo_scan
   // The scanner's tf frame when the clouds come in another frame; empty: the clouds' own frame.
@@ -52,13 +56,35 @@ struct InputOptions
 // An input that makes no sweep (dropped), or a usable one with something worth a warning.
 struct InputProblem
 {
+  InputProblem() = default;
+  InputProblem(bool dropped_, std::string what_, std::string topic_, std::string text_, std::string detail_ = "")
+    : dropped(dropped_), what(std::move(what_)), topic(std::move(topic_)), text(std::move(text_)),
+      detail(std::move(detail_))
+  {
+  }
+
   bool dropped = true;
   std::string what;   // "sweep", "scan" or "message"
   std::string topic;  // where it came from, e.g. "/prefilter/input" or "/echo1 + /echo2"
-  std::string text;   // what is wrong
+  std::string text;   // what is wrong: the kind of problem, by which it is counted and throttled
+  std::string detail;  // "" or the particulars of this one (stamps, counts), shown after it
 
   // "WHAT on TOPIC: TEXT"
   std::string describe() const { return what + " on " + topic + ": " + text; }
+  // describe() and the detail: "WHAT on TOPIC: TEXT (DETAIL)"
+  std::string describeInFull() const { return describe() + (detail.empty() ? "" : " (" + detail + ")"); }
+};
+
+// The message type an input reads, as its publisher (or the bag) announced it: told by the
+// default mode when it has found which mode reads a topic, and by hokuyo3d_legacy whenever the
+// definition it decodes changes (the outputs in the original's types follow it).
+struct FoundInputType
+{
+  std::string topic;
+  std::string mode;  // the input mode that reads it
+  std::string datatype;
+  std::string md5sum;
+  std::string definition;  // the full message definition
 };
 
 // Where the sweeps of an input mode go: the pipeline (the nodelet, prefilter_bag), or a stage
@@ -71,6 +97,8 @@ public:
   // which saves a copy; the adapter refills whatever it gets back.
   virtual void sweepReady(core::Sweep& sweep, const core::SweepContext& context) = 0;
   virtual void inputProblem(const InputProblem& problem) = 0;
+  // Before the sweeps of a newly found type (see FoundInputType).
+  virtual void inputTypeFound(const FoundInputType& /*type*/) {}
 };
 
 // What an adapter works with while it handles a message: where its results go, and the
@@ -104,6 +132,9 @@ public:
 
   // The nodelet: subscribes `nh` to the topic; its messages go to the adapter with `sink`.
   virtual ros::Subscriber subscribe(ros::NodeHandle& nh, const InputSink& sink) const = 0;
+  // A message taken as a ShapeShifter (the default mode, which reads any type), of this topic's
+  // type: to the adapter as it is (a ShapeShifter topic) or deserialized into the type.
+  virtual void addShapeShifter(const topic_tools::ShapeShifter::ConstPtr& message, const InputSink& sink) const = 0;
   // prefilter_bag: one recorded message, its serialized bytes and the connection header it was
   // recorded with (type, md5sum, message_definition). Returns why it cannot be read ("" when
   // it went to the adapter).
@@ -131,6 +162,14 @@ public:
   {
     return nh.subscribe<M>(name, queue_size,
                            [this, sink](const boost::shared_ptr<const M>& message) { handler_(message, sink); });
+  }
+
+  void addShapeShifter(const topic_tools::ShapeShifter::ConstPtr& message, const InputSink& sink) const override
+  {
+    if constexpr (std::is_same<M, topic_tools::ShapeShifter>::value)
+      handler_(message, sink);
+    else
+      handler_(message->instantiate<M>(), sink);
   }
 
   std::string addSerialized(const std::vector<std::uint8_t>& bytes,
@@ -209,12 +248,36 @@ struct InputMode
   std::unique_ptr<InputAdapter> (*make)(const InputOptions& options);
 };
 
-// The modes, the default (pair) first.
+// The modes a user can set (input_mode), pair first.
 const std::vector<InputMode>& inputModes();
 // Null when there is no such mode.
 const InputMode* findInputMode(const std::string& name);
 // "input_mode 'NAME' is unknown: allowed values are 'pair', ..."
 std::string unknownInputModeMessage(const std::string& name);
+
+// The default, when input_mode is not set: one topic (~input, sub_input_scan) of any type,
+// whose messages go to the mode that reads their type without further parameters (pair for
+// ohm_mirror_detector3d/EchoPair, hokuyo3d_legacy for ohm_hokuyo3d/CoordDistMulti or any type
+// with its layout: matchInputType). Any other type is dropped with an error naming the type and
+// the input_mode that reads it. Its name is "" (no value of input_mode).
+const InputMode& runTimeInputMode();
+// The modes runTimeInputMode() chooses from, in the order they are tried.
+const std::vector<const InputMode*>& runTimeChoices();
+
+// Which mode reads messages of a type, as runTimeInputMode() decides it.
+struct InputTypeMatch
+{
+  const InputMode* mode = nullptr;  // one of runTimeChoices(); null: none of them reads it
+  std::string problem;              // when null: why not, and the input_mode that would read it
+};
+// From the type a publisher (or a bag's connection) announces; `message` (may be null) is one
+// message of it, from which a PointCloud2's fields tell dual_return from two_topics.
+InputTypeMatch matchInputType(const std::string& datatype, const std::string& md5sum, const std::string& definition,
+                              const topic_tools::ShapeShifter* message = nullptr);
+// For a publisher of `datatype` on a topic that expects another type: which input_mode reads
+// it, in words ("input_mode multi_echo_scan reads it (with sweep_frame ...)").
+std::string modeThatReads(const std::string& datatype, const std::string& definition = "",
+                          const topic_tools::ShapeShifter* message = nullptr);
 
 // Reads the start-up parameters of the input: azimuth_resolution_deg (every mode, as always),
 // sensor_frame, and those of `mode`. The nodelet reads them from its private parameters,

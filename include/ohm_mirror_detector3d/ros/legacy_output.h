@@ -35,6 +35,7 @@
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/ros/hokuyo3d_legacy.h"
 #include "ohm_mirror_detector3d/ros/message_walker.h"
 
 namespace ohm_mirror_detector3d
@@ -49,9 +50,8 @@ struct AnnouncedType
   std::string definition;
 };
 
-// The reconstructed definition of ohm_hokuyo3d/CoordDistMulti (full text, nested types
-// included), used while no driver connection has given its own.
-extern const char* const kLegacyScanDatatype;
+// The reconstructed definition of ohm_hokuyo3d/CoordDistMulti (kLegacyScanDatatype, full text,
+// nested types included), used while no driver connection has given its own.
 const std::string& builtinLegacyScanDefinition();
 
 // Advertises `topic` of `nh` as `type`, for the ShapeShifters of a writer; the callbacks let a

@@ -18,7 +18,9 @@
 
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
 #include "ohm_mirror_detector3d/ros/input_mode.h"
+#include "ohm_mirror_detector3d/ros/legacy_outputs.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
+#include "ohm_mirror_detector3d/ros/parameters.h"
 #include "ohm_mirror_detector3d/ros/processing_stats.h"
 #include "ohm_mirror_detector3d/ros/problem_throttle.h"
 #include "ohm_mirror_detector3d/ros/sweep_input.h"
@@ -29,9 +31,13 @@ class PreFilterNodelet : public nodelet::Nodelet, private ros_io::SweepReceiver
 {
 private:
   void onInit() override;
-  void advertiseOutputs();
+  // Reads the output topics' names from `source` (appending a message per bad one to `errors`).
+  void advertiseOutputs(const ros_io::ParamSource& source, bool every_legacy_output, std::vector<std::string>& errors);
   // /diagnostics every ~diagnostic_period seconds (default 1): see ProcessingStats.
   void startDiagnostics();
+  // A publisher of another type on a typed input topic: roscpp refuses the connection and nothing
+  // arrives, so the master's record of the topic's type is checked while the input is subscribed.
+  void checkInputPublishers();
 
   // Lazy subscription: the input is subscribed only while an output has a subscriber.
   void updateSubscription();
@@ -43,18 +49,21 @@ private:
   // the pipeline and out; a problem is logged (throttled) and counted.
   void sweepReady(core::Sweep& sweep, const core::SweepContext& context) override;
   void inputProblem(const ros_io::InputProblem& problem) override;
+  // Logs which mode reads the input (input_mode not set), and hands the driver's definition to
+  // the outputs in the original's types (hokuyo3d_legacy).
+  void inputTypeFound(const ros_io::FoundInputType& type) override;
   void processAndPublish(const core::SweepContext& context);
   // Logs a problem with the input ("dropping WHAT on TOPIC: PROBLEM" as an error, or "WHAT on
   // TOPIC: PROBLEM" as a warning), throttled per kind of problem.
   void reportInputProblem(const ros_io::InputProblem& problem);
-
-  std::string input_topic_;  // every mode but two_topics; the diagnostics' hardware id
 
   ros::Publisher labelled_pub_;
   ros::Publisher cleaned_pub_;
   ros::Publisher objects_pub_;
   ros::Publisher markers_pub_;
   ros::Publisher timing_pub_;  // ~timing, for make bench: see processAndPublish
+  // The original's outputs (pub_scan, pub_cleaned, ...) that are set, or all in hokuyo3d_legacy.
+  ros_io::LegacyPublishers legacy_;
 
   // Transforms for multi_echo_scan and sensor_frame: filled by a listener on a thread of its own,
   // so that they keep coming while the pipeline runs; never waited for in a callback.
@@ -70,8 +79,9 @@ private:
   std::mutex pipeline_mutex_;
   ros_io::MessagePipeline pipeline_;
 
-  std::mutex problem_mutex_;
+  std::mutex problem_mutex_;  // guards problem_throttle_, found_type_
   ros_io::ProblemThrottle problem_throttle_{ 5.0 };
+  ros_io::FoundInputType found_type_;  // the last one logged
 
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<PreFilterConfig>> reconfigure_server_;
@@ -85,6 +95,7 @@ private:
   std::vector<ros::Subscriber> input_subscribers_;
   // Hands on what waits for transforms that have come since (only when tf is used).
   ros::WallTimer poll_timer_;
+  ros::WallTimer publisher_check_timer_;  // checkInputPublishers, while subscribed
 };
 
 }  // namespace ohm_mirror_detector3d

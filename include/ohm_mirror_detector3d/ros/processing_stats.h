@@ -28,6 +28,9 @@ public:
   void recordImplausibleRemoval(const std::string& description);
   // A sweep (or a scan of one) was refused: `problem` is what the throttled error said.
   void recordDropped(const std::string& problem);
+  // Nothing can arrive from a publisher on an input topic (another message type): reported as
+  // an error while no input comes, until the next check finds none ("").
+  void recordPublisherProblem(const std::string& problem);
 
   // Summarises the interval since the previous call into `status` and starts a new one.
   // `subscribed`: whether the lazy input subscription is active (no input is then normal).
@@ -51,6 +54,7 @@ private:
   std::size_t last_points_ = 0;
   std::string last_problem_;
   std::string last_implausible_removal_;
+  std::string publisher_problem_;
 };
 
 }  // namespace ros_io

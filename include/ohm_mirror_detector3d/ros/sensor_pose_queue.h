@@ -41,6 +41,7 @@ public:
   // taken; `sweep` is left empty).
   void sweepReady(core::Sweep& sweep, const core::SweepContext& context) override;
   void inputProblem(const InputProblem& problem) override { next_.inputProblem(problem); }
+  void inputTypeFound(const FoundInputType& type) override { next_.inputTypeFound(type); }
 
   // Hands on, in order, the waiting sweeps whose transforms have come; drops, with an error
   // naming both frames, those whose transform will not come (tf holds newer transforms between
