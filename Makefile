@@ -73,10 +73,15 @@ demo: build
 # the same sweeps (slow: a few runs), resident set after 10,000 sweeps, and the latency of the
 # real nodelet in a nodelet manager, with the driver in the same manager and in another process
 # (own masters on free ports). About ten minutes.
+# Then issue 14's frames (bench/side_by_side.py: 1080 x 400 with objects, a 64 x 600 dual-return frame
+# through filter_dual_return), beside another build's when BENCH_OTHER names its dist-packages
+# (e.g. BENCH_OTHER=/path/to/main/.ws/devel/lib/python3/dist-packages).
+BENCH_OTHER ?=
 bench:
 	$(MAKE) build BUILD_TYPE=Release CMAKE_EXTRA=-DOHM_BUILD_BENCH=ON
 	$(SOURCE_WS) && /usr/bin/python3 bench/run_bench.py --binary $(WS)/devel/lib/$(PKG)/bench_pipeline \
 	  --output $(CURDIR)/bench/results.json
+	$(SOURCE_WS) && /usr/bin/python3 bench/side_by_side.py $(if $(BENCH_OTHER),--other $(BENCH_OTHER))
 
 # Not part of `make test`: the filter (the Python bindings, no master) on EVALUATE_SCENES random scenes per
 # sensor family of SENSORS.md plus the named scenes, realistic physics, scored against the ground truth

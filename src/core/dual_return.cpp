@@ -15,33 +15,56 @@ constexpr double kPi = 3.14159265358979323846;
 // A point this close to the origin is a driver's "no return" (zeros), not a measurement.
 constexpr float kOriginEpsilon = 1e-6f;
 constexpr std::int32_t kNone = -1;
+// The azimuth step is read from this many rings at most, each with at least this many first
+// returns; gaps below kSameAzimuthDeg are two returns of one firing.
+constexpr std::size_t kStepRings = 8;
+constexpr std::size_t kMinRingReturns = 16;
+constexpr double kSameAzimuthDeg = 1e-4;
 
-// Signed difference a - b of two azimuths in degrees, in [-180, 180).
+// Signed difference a - b of two azimuths in [0, 360), in [-180, 180).
 double azimuthDifference(double a, double b)
 {
-  double d = std::fmod(a - b + 180.0, 360.0);
-  if (d < 0.0)
+  double d = a - b;
+  if (d >= 180.0)
+    d -= 360.0;
+  else if (d < -180.0)
     d += 360.0;
-  return d - 180.0;
+  return d;
 }
 
-// Where a point wants to go and how well it fits there (smaller is better).
-struct Claim
+// Azimuth of p in [0, 360) degrees, counter-clockwise from +x.
+double azimuthOf(const Eigen::Vector3f& p)
 {
-  std::int64_t cell = -1;
-  int echo = 0;
-  double score = 0.0;
-};
+  double azimuth = std::atan2(static_cast<double>(p.y()), static_cast<double>(p.x())) * 180.0 / kPi;
+  if (azimuth < 0.0)
+    azimuth += 360.0;
+  return azimuth;
+}
+
+bool isReturn(const Eigen::Vector3f& p)
+{
+  return p.allFinite() && p.squaredNorm() >= kOriginEpsilon * kOriginEpsilon;
+}
+
+int returnBase(const DualReturnInput& input)
+{
+  for (std::size_t i = 0; i < input.size(); ++i)
+    if (input.returns[i] == 0)
+      return 0;
+  return 1;
+}
 }  // namespace
 
 std::string validateAzimuthResolution(double degrees)
 {
-  if (std::isfinite(degrees) && degrees >= kMinAzimuthResolutionDeg && degrees <= kMaxAzimuthResolutionDeg)
+  if (degrees == kAzimuthStepFromCloud ||
+      (std::isfinite(degrees) && degrees >= kMinAzimuthResolutionDeg && degrees <= kMaxAzimuthResolutionDeg))
     return "";
   std::ostringstream message;
   message << "azimuth_resolution_deg = " << degrees << " is out of range: allowed " << kMinAzimuthResolutionDeg
           << " .. " << kMaxAzimuthResolutionDeg
-          << " [deg], the azimuth step of the lidar (e.g. 0.17578125 for 2048 columns, 0.2 for a Velodyne at 10 Hz)";
+          << " [deg], the azimuth step of the lidar (e.g. 0.17578125 for 2048 columns, 0.2 for a Velodyne at 10 Hz), "
+             "or 0 (or not given) to work it out from each cloud";
   return message.str();
 }
 
@@ -50,32 +73,97 @@ std::size_t azimuthBins(double degrees)
   return static_cast<std::size_t>(std::max(1.0, std::round(360.0 / degrees)));
 }
 
+double estimateAzimuthStepDeg(const DualReturnInput& input)
+{
+  const std::size_t n = input.size();
+  const int base = returnBase(input);
+  std::vector<std::size_t> counts;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::int64_t ring = input.rings[i];
+    if (input.returns[i] != base || ring < 0 || ring >= kMaxRings || !isReturn(input.points.points[i]))
+      continue;
+    if (static_cast<std::size_t>(ring) >= counts.size())
+      counts.resize(static_cast<std::size_t>(ring) + 1, 0);
+    ++counts[static_cast<std::size_t>(ring)];
+  }
+  std::vector<std::size_t> rings;
+  for (std::size_t r = 0; r < counts.size(); ++r)
+    if (counts[r] >= kMinRingReturns)
+      rings.push_back(r);
+  if (rings.empty())
+    return 0.0;
+  // Rings spread over the field of view, so that one odd ring (a lidar's own housing) cannot
+  // decide alone.
+  std::vector<std::int32_t> slot(counts.size(), -1);
+  const std::size_t chosen = std::min(kStepRings, rings.size());
+  for (std::size_t k = 0; k < chosen; ++k)
+    slot[rings[k * rings.size() / chosen]] = static_cast<std::int32_t>(k);
+  std::vector<std::vector<double>> azimuths(chosen);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::int64_t ring = input.rings[i];
+    if (input.returns[i] != base || ring < 0 || static_cast<std::size_t>(ring) >= slot.size() ||
+        slot[static_cast<std::size_t>(ring)] < 0 || !isReturn(input.points.points[i]))
+      continue;
+    azimuths[static_cast<std::size_t>(slot[static_cast<std::size_t>(ring)])].push_back(
+        azimuthOf(input.points.points[i]));
+  }
+  std::vector<double> gaps;
+  for (std::vector<double>& ring : azimuths)
+  {
+    std::sort(ring.begin(), ring.end());
+    for (std::size_t k = 0; k < ring.size(); ++k)
+    {
+      const double gap = k + 1 < ring.size() ? ring[k + 1] - ring[k] : ring.front() + 360.0 - ring.back();
+      if (gap > kSameAzimuthDeg)
+        gaps.push_back(gap);
+    }
+  }
+  if (gaps.empty())
+    return 0.0;
+  const auto middle = gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2);
+  std::nth_element(gaps.begin(), middle, gaps.end());
+  // No ring needs more columns than twice its firings: returns bunched into a small arc (a
+  // corrupt cloud) must not make a grid of millions of empty cells.
+  const std::size_t most = *std::max_element(counts.begin(), counts.end());
+  const double finest = std::max(kMinAzimuthResolutionDeg, 360.0 / (2.0 * static_cast<double>(most)));
+  const double step = std::min(std::max(*middle, finest), kMaxAzimuthResolutionDeg);
+  return 360.0 / static_cast<double>(azimuthBins(step));
+}
+
+enum class DualReturnBinner::Kind : std::uint8_t
+{
+  first,
+  second,
+  no_return,
+  ring_out_of_range,
+  return_out_of_range
+};
+
 DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_resolution_deg, Sweep& sweep)
+{
+  DualReturnBinner binner;
+  return binner.bin(input, azimuth_resolution_deg, sweep);
+}
+
+DualReturnStats DualReturnBinner::bin(const DualReturnInput& input, double azimuth_resolution_deg, Sweep& sweep)
 {
   DualReturnStats stats;
   const std::size_t n = input.size();
   stats.points = n;
-  const std::size_t cols = azimuthBins(azimuth_resolution_deg);
+  stats.azimuth_from_cloud = azimuth_resolution_deg == kAzimuthStepFromCloud;
+  const double resolution = stats.azimuth_from_cloud ? estimateAzimuthStepDeg(input) : azimuth_resolution_deg;
+  const std::size_t cols = resolution > 0.0 ? azimuthBins(resolution) : 1;
   const double step = 360.0 / static_cast<double>(cols);
-
-  for (std::size_t i = 0; i < n; ++i)
-    if (input.returns[i] == 0)
-    {
-      stats.return_base = 0;
-      break;
-    }
+  stats.azimuth_resolution_deg = step;
+  stats.return_base = returnBase(input);
 
   // Classify every point: which echo, its azimuth and bin, or why it has no cell.
-  enum class Kind : std::uint8_t
-  {
-    first,
-    second,
-    no_return,
-    ring_out_of_range,
-    return_out_of_range
-  };
-  std::vector<Kind> kinds(n);
-  std::vector<double> azimuths(n, 0.0);
+  std::vector<Kind>& kinds = kinds_;
+  std::vector<double>& azimuths = azimuths_;
+  kinds.resize(n);
+  azimuths.assign(n, 0.0);
   std::int64_t max_ring = -1;
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -86,15 +174,12 @@ DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_reso
       kinds[i] = Kind::return_out_of_range;
     else if (ring < 0 || ring >= kMaxRings)
       kinds[i] = Kind::ring_out_of_range;
-    else if (!p.allFinite() || p.squaredNorm() < kOriginEpsilon * kOriginEpsilon)
+    else if (!isReturn(p))
       kinds[i] = Kind::no_return;
     else
     {
       kinds[i] = echo == 0 ? Kind::first : Kind::second;
-      double azimuth = std::atan2(static_cast<double>(p.y()), static_cast<double>(p.x())) * 180.0 / kPi;
-      if (azimuth < 0.0)
-        azimuth += 360.0;
-      azimuths[i] = azimuth;
+      azimuths[i] = azimuthOf(p);
       max_ring = std::max(max_ring, ring);
     }
   }
@@ -107,9 +192,11 @@ DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_reso
   auto cellOf = [&](std::int64_t ring, std::int64_t bin) { return ring * static_cast<std::int64_t>(cols) + bin; };
 
   // Owners of each cell and echo, and the claims of every point.
-  std::vector<std::int32_t> owner[2] = { std::vector<std::int32_t>(cells, kNone),
-                                         std::vector<std::int32_t>(cells, kNone) };
-  std::vector<Claim> claims(n);
+  std::vector<std::int32_t>* owner = owner_;
+  owner[0].assign(cells, kNone);
+  owner[1].assign(cells, kNone);
+  std::vector<Claim>& claims = claims_;
+  claims.assign(n, Claim());
   auto claim = [&](std::size_t i, std::int64_t cell, int echo, double score) {
     claims[i] = Claim{ cell, echo, score };
     std::int32_t& current = owner[echo][static_cast<std::size_t>(cell)];
@@ -129,7 +216,8 @@ DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_reso
   }
   // Second returns: the nearest first return of the ring within half a bin, among the
   // winners of the neighbouring bins (a partner within half a bin lies in one of them).
-  std::vector<std::size_t> unpaired;
+  std::vector<std::size_t>& unpaired = unpaired_;
+  unpaired.clear();
   for (std::size_t i = 0; i < n; ++i)
   {
     if (kinds[i] != Kind::second)

@@ -28,6 +28,7 @@
 
 #include "ohm_mirror_detector3d/core/min_area_rectangle.h"
 #include "ohm_mirror_detector3d/core/spatial_index.h"
+#include "ohm_mirror_detector3d/core/sweep_sampling.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -146,11 +147,41 @@ struct ObjectExtractor::Workspace
   std::vector<std::uint32_t> patch_fill;
   std::vector<std::uint32_t> patch_members;  // inlier positions grouped by patch, ascending
 
+  // Connectivity on the sweep's grid: groups of candidates (positions into a member list),
+  // group k is group_members[group_start[k] .. group_start[k + 1]).
+  std::vector<std::int32_t> member_of_beam;  // per beam: position in the member list, or -1
+  std::vector<std::uint32_t> member_parent;  // union-find over the member list
+  std::vector<std::int32_t> group_of_root;
+  std::vector<std::uint32_t> group_start;
+  std::vector<std::uint32_t> group_fill;
+  std::vector<std::uint32_t> group_members;
+  std::vector<std::uint32_t> member_group;
+  // The connected groups of all candidates while their planes are fitted (groupOnGrid's
+  // buffers then serve the patches).
+  IndexVector candidates;
+  std::vector<std::uint32_t> candidate_group_start;
+  std::vector<std::uint32_t> candidate_group_members;
+  // Beams across a patch: its points in grid order and the runs through them.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> grid_order;
+  std::vector<std::uint32_t> run_along_row;
+  std::vector<std::uint32_t> across;
+  SamplingEstimator sampling_estimator;  // for extract() without a sampling
+
   // One patch in its plane.
   std::vector<Eigen::Vector2d> projected;
   std::vector<Eigen::Vector2d> hull;
   std::vector<std::pair<double, std::uint32_t>> sweep_order;
   std::vector<double> nearest;
+
+  std::uint32_t findMember(std::uint32_t m)
+  {
+    while (member_parent[m] != m)
+    {
+      member_parent[m] = member_parent[member_parent[m]];
+      m = member_parent[m];
+    }
+    return m;
+  }
 
   std::uint32_t find(std::uint32_t cell)
   {
@@ -164,10 +195,20 @@ struct ObjectExtractor::Workspace
 
   void gather(const Sweep& sweep, const SweepLabels& labels);
   std::size_t splitPatches(double connection_distance);
+  std::size_t groupOnGrid(const Sweep& sweep, const BeamNeighbourhood& neighbourhood, const IndexVector& members);
+  void patchesFromGroups(const Sweep& sweep, const BeamNeighbourhood& neighbourhood);
+  std::size_t beamsAcross(const SweepSampling& sampling, const IndexVector& members, const std::uint32_t* positions,
+                          std::size_t count);
   bool anyPairCloser(std::uint32_t a, std::uint32_t b, float squared_distance) const;
   double typicalSpacing(const Eigen::Vector2d& sweep_direction);
-  void buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin, std::uint32_t patch,
-                   ReflectiveObject& object);
+  // Returns the patch's typical sample spacing.
+  double buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin, std::uint32_t patch,
+                     ReflectiveObject& object);
+  // The planes of the candidates in `remaining` (RANSAC loop), each cut into patches; appends
+  // the patches that can be objects.
+  void fitPlanes(const Sweep& sweep, const SweepSampling& sampling, const Eigen::Vector3f& origin,
+                 const ObjectExtractionConfig& config, const BeamNeighbourhood* neighbourhood,
+                 std::vector<ReflectiveObject>& objects);
 };
 
 void ObjectExtractor::WorkspaceDeleter::operator()(Workspace* workspace) const
@@ -329,8 +370,8 @@ double ObjectExtractor::Workspace::typicalSpacing(const Eigen::Vector2d& sweep_d
   return *middle;
 }
 
-void ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin,
-                                             std::uint32_t patch, ReflectiveObject& object)
+double ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin,
+                                               std::uint32_t patch, ReflectiveObject& object)
 {
   const std::uint32_t begin = patch_start[patch];
   const std::uint32_t end = patch_start[patch + 1];
@@ -427,88 +468,274 @@ void ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_norma
   object.surface_inliers.resize(end - begin);
   for (std::uint32_t m = begin; m < end; ++m)
     object.surface_inliers[m - begin] = refs[static_cast<std::size_t>(inliers[patch_members[m]])];
+  return spacing;
 }
 
 ObjectExtractor::ObjectExtractor(const ObjectExtractionConfig& config) : config_(config)
 {
 }
 
+// Groups `members` (candidate indices) into connected groups on the grid: group_start /
+// group_members (positions into members, ascending within a group), groups numbered in the
+// order of their first member. Returns the number of groups.
+std::size_t ObjectExtractor::Workspace::groupOnGrid(const Sweep& sweep, const BeamNeighbourhood& neighbourhood,
+                                                    const IndexVector& members)
+{
+  const std::size_t n = members.size();
+  const std::size_t cols = neighbourhood.cols();
+  member_of_beam.resize(sweep.beamCount(), -1);
+  member_parent.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i)
+  {
+    member_parent[i] = i;
+    member_of_beam[refs[static_cast<std::size_t>(members[i])].beam] = static_cast<std::int32_t>(i);
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+  {
+    const PointRef ref = refs[static_cast<std::size_t>(members[i])];
+    const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
+    const float range = sweep.echoes[ref.echo].ranges[ref.beam];
+    neighbourhood.anyNeighbour(ref.beam / cols, ref.beam % cols, [&](std::size_t other, std::size_t k) {
+      const std::int32_t j = member_of_beam[other];
+      if (j < 0)
+        return false;
+      const PointRef q = refs[static_cast<std::size_t>(members[static_cast<std::size_t>(j)])];
+      if ((sweep.echoes[q.echo].points[q.beam] - p).squaredNorm() > neighbourhood.limitSquared(range, k))
+        return false;
+      const std::uint32_t a = findMember(i);
+      const std::uint32_t b = findMember(static_cast<std::uint32_t>(j));
+      if (a != b)
+        member_parent[std::max(a, b)] = std::min(a, b);
+      return false;
+    });
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+    member_of_beam[refs[static_cast<std::size_t>(members[i])].beam] = -1;
+
+  group_of_root.assign(n, -1);
+  member_group.resize(n);
+  group_start.assign(1, 0);
+  for (std::uint32_t i = 0; i < n; ++i)
+  {
+    const std::uint32_t root = findMember(i);
+    if (group_of_root[root] < 0)
+    {
+      group_of_root[root] = static_cast<std::int32_t>(group_start.size() - 1);
+      group_start.push_back(0);
+    }
+    member_group[i] = static_cast<std::uint32_t>(group_of_root[root]);
+    ++group_start[member_group[i] + 1];
+  }
+  const std::size_t groups = group_start.size() - 1;
+  for (std::size_t g = 0; g < groups; ++g)
+    group_start[g + 1] += group_start[g];
+  group_fill.assign(group_start.begin(), group_start.end() - 1);
+  group_members.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i)
+    group_members[group_fill[member_group[i]]++] = i;
+  return groups;
+}
+
+// The patches of the plane's inliers connected on the grid, in splitPatches' layout.
+void ObjectExtractor::Workspace::patchesFromGroups(const Sweep& sweep, const BeamNeighbourhood& neighbourhood)
+{
+  const std::size_t n = inliers.size();
+  inlier_points.resize(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const pcl::PointXYZ& q = cloud->points[static_cast<std::size_t>(inliers[k])];
+    inlier_points[k] = Eigen::Vector3f(q.x, q.y, q.z);
+  }
+  groupOnGrid(sweep, neighbourhood, inliers);
+  patch_start = group_start;
+  patch_members = group_members;
+}
+
+// Median over the points (members[positions[0 .. count)]) of the shorter of the two runs of
+// these points through it, along its row and along its column of the grid.
+std::size_t ObjectExtractor::Workspace::beamsAcross(const SweepSampling& sampling, const IndexVector& members,
+                                                    const std::uint32_t* positions, std::size_t count)
+{
+  if (count == 0)
+    return 0;
+  const std::uint64_t cols = sampling.cols;
+  const std::uint64_t rows = sampling.rows;
+  run_along_row.resize(count);
+  across.resize(count);
+  // Pass 0 walks the points in row-major order (runs along a row), pass 1 in column-major order.
+  for (int pass = 0; pass < 2; ++pass)
+  {
+    grid_order.resize(count);
+    for (std::uint32_t i = 0; i < count; ++i)
+    {
+      const std::uint64_t beam = refs[static_cast<std::size_t>(members[positions[i]])].beam;
+      const std::uint64_t row = beam / cols;
+      const std::uint64_t col = beam % cols;
+      grid_order[i] = { pass == 0 ? row * cols + col : col * rows + row, i };
+    }
+    std::sort(grid_order.begin(), grid_order.end());
+    std::size_t first = 0;
+    for (std::size_t k = 1; k <= count; ++k)
+    {
+      // A run continues while the next point is the next cell of the same row (column).
+      const bool continues = k < count && grid_order[k].first == grid_order[k - 1].first + 1 &&
+                             (pass == 0 ? grid_order[k].first % cols != 0 : grid_order[k].first % rows != 0);
+      if (continues)
+        continue;
+      const std::uint32_t length = static_cast<std::uint32_t>(k - first);
+      for (std::size_t m = first; m < k; ++m)
+      {
+        const std::uint32_t point = grid_order[m].second;
+        if (pass == 0)
+          run_along_row[point] = length;
+        else
+          across[point] = std::min(run_along_row[point], length);
+      }
+      first = k;
+    }
+  }
+  const auto middle = across.begin() + static_cast<std::ptrdiff_t>(count / 2);
+  std::nth_element(across.begin(), middle, across.end());
+  return *middle;
+}
+
+void ObjectExtractor::Workspace::fitPlanes(const Sweep& sweep, const SweepSampling& sampling,
+                                           const Eigen::Vector3f& origin, const ObjectExtractionConfig& config,
+                                           const BeamNeighbourhood* neighbourhood,
+                                           std::vector<ReflectiveObject>& objects)
+{
+  // Three points span a plane; Params::validate() refuses fewer, this guards direct callers.
+  const std::size_t min_points = static_cast<std::size_t>(std::max(config.min_object_points, 3));
+  const std::size_t min_across = static_cast<std::size_t>(std::max(config.min_beams_across, 0));
+  const bool on_grid = sampling.hasGrid() && sampling.rows * sampling.cols == sweep.beamCount();
+  // Every pass assigns at least min_points (>= 3) points or stops, so the loop ends.
+  while (remaining.size() >= min_points)
+  {
+    // A fresh model and RANSAC per plane: both seed their generators with PCL's fixed seed
+    // (12345) when not asked for a random one, so the same sweep gives the same planes,
+    // whatever the extractor did before. Single-threaded (PCL's default).
+    remaining_x.resize(remaining.size());
+    remaining_y.resize(remaining.size());
+    remaining_z.resize(remaining.size());
+    for (std::size_t i = 0; i < remaining.size(); ++i)
+    {
+      const pcl::PointXYZ& q = cloud->points[static_cast<std::size_t>(remaining[i])];
+      remaining_x[i] = q.x;
+      remaining_y[i] = q.y;
+      remaining_z[i] = q.z;
+    }
+    pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
+        new CountingPlaneModel(cloud, remaining, remaining_x, remaining_y, remaining_z));
+    pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, config.plane_threshold);
+    ransac.setMaxIterations(kRansacMaxIterations);
+    if (!ransac.computeModel())
+      break;
+    ransac.getInliers(inliers);
+    ransac.getModelCoefficients(coefficients);
+    // Least-squares polish of the plane on its inliers, and the inliers of the polished
+    // plane when there are at least as many (RANSAC's plane through three noisy points is
+    // a little tilted and misses the edges of a large patch).
+    if (inliers.size() >= 3)
+    {
+      model->optimizeModelCoefficients(inliers, coefficients, refined_coefficients);
+      model->selectWithinDistance(refined_coefficients, config.plane_threshold, refined_inliers);
+      if (refined_inliers.size() >= inliers.size() && refined_coefficients.allFinite())
+      {
+        std::swap(inliers, refined_inliers);
+        std::swap(coefficients, refined_coefficients);
+      }
+    }
+    if (inliers.size() < min_points)
+      break;
+    std::sort(inliers.begin(), inliers.end());
+    std::size_t newly_assigned = 0;
+    for (const int index : inliers)
+    {
+      newly_assigned += assigned[static_cast<std::size_t>(index)] == 0 ? 1 : 0;
+      assigned[static_cast<std::size_t>(index)] = 1;
+    }
+    // PCL only returns points among `remaining`; should it ever not, stop rather than spin.
+    if (newly_assigned == 0)
+      break;
+
+    const Eigen::Vector3f ransac_normal = coefficients.head<3>();
+    std::size_t patch_count = 0;
+    if (neighbourhood != nullptr)
+    {
+      patchesFromGroups(sweep, *neighbourhood);
+      patch_count = patch_start.size() - 1;
+    }
+    else
+    {
+      patch_count = splitPatches(config.connection_distance);
+    }
+    for (std::uint32_t patch = 0; patch < patch_count; ++patch)
+    {
+      const std::size_t size = patch_start[patch + 1] - patch_start[patch];
+      if (size < min_points)
+        continue;
+      if (on_grid && beamsAcross(sampling, inliers, &patch_members[patch_start[patch]], size) < min_across)
+        continue;
+      objects.emplace_back();
+      ReflectiveObject& object = objects.back();
+      object.id = static_cast<std::uint32_t>(objects.size() - 1);
+      const double spacing = buildObject(ransac_normal, origin, patch, object);
+      // Without a grid the rectangle says how wide the patch is, in sample spacings.
+      if (!on_grid && std::min(object.width, object.height) < static_cast<double>(min_across) * spacing)
+        objects.pop_back();
+    }
+
+    remaining.erase(std::remove_if(remaining.begin(), remaining.end(),
+                                   [this](int index) { return assigned[static_cast<std::size_t>(index)] != 0; }),
+                    remaining.end());
+  }
+}
+
 void ObjectExtractor::extract(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                               std::vector<ReflectiveObject>& objects)
+{
+  if (!workspace_)
+    workspace_.reset(new Workspace);
+  const SweepSampling sampling = workspace_->sampling_estimator.estimate(sweep, sensor_origin);
+  extract(sweep, sampling, sensor_origin, labels, objects);
+}
+
+void ObjectExtractor::extract(const Sweep& sweep, const SweepSampling& sampling, const Eigen::Vector3f& sensor_origin,
+                              const SweepLabels& labels, std::vector<ReflectiveObject>& objects)
 {
   objects.clear();
   if (!workspace_)
     workspace_.reset(new Workspace);
   Workspace& ws = *workspace_;
   ws.gather(sweep, labels);
-
-  // Three points span a plane; Params::validate() refuses fewer, this guards direct callers.
-  const std::size_t min_points = static_cast<std::size_t>(std::max(config_.min_object_points, 3));
-  // Every pass assigns at least min_points (>= 3) points or stops, so the loop ends.
-  while (ws.remaining.size() >= min_points)
+  const bool on_grid = sampling.hasGrid() && sampling.rows * sampling.cols == sweep.beamCount();
+  if (!config_.follows_sampling || !on_grid)
   {
-    // A fresh model and RANSAC per plane: both seed their generators with PCL's fixed seed
-    // (12345) when not asked for a random one, so the same sweep gives the same planes,
-    // whatever the extractor did before. Single-threaded (PCL's default).
-    ws.remaining_x.resize(ws.remaining.size());
-    ws.remaining_y.resize(ws.remaining.size());
-    ws.remaining_z.resize(ws.remaining.size());
-    for (std::size_t i = 0; i < ws.remaining.size(); ++i)
-    {
-      const pcl::PointXYZ& q = ws.cloud->points[static_cast<std::size_t>(ws.remaining[i])];
-      ws.remaining_x[i] = q.x;
-      ws.remaining_y[i] = q.y;
-      ws.remaining_z[i] = q.z;
-    }
-    pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
-        new CountingPlaneModel(ws.cloud, ws.remaining, ws.remaining_x, ws.remaining_y, ws.remaining_z));
-    pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, config_.plane_threshold);
-    ransac.setMaxIterations(kRansacMaxIterations);
-    if (!ransac.computeModel())
-      break;
-    ransac.getInliers(ws.inliers);
-    ransac.getModelCoefficients(ws.coefficients);
-    // Least-squares polish of the plane on its inliers, and the inliers of the polished
-    // plane when there are at least as many (RANSAC's plane through three noisy points is
-    // a little tilted and misses the edges of a large patch).
-    if (ws.inliers.size() >= 3)
-    {
-      model->optimizeModelCoefficients(ws.inliers, ws.coefficients, ws.refined_coefficients);
-      model->selectWithinDistance(ws.refined_coefficients, config_.plane_threshold, ws.refined_inliers);
-      if (ws.refined_inliers.size() >= ws.inliers.size() && ws.refined_coefficients.allFinite())
-      {
-        std::swap(ws.inliers, ws.refined_inliers);
-        std::swap(ws.coefficients, ws.refined_coefficients);
-      }
-    }
-    if (ws.inliers.size() < min_points)
-      break;
-    std::sort(ws.inliers.begin(), ws.inliers.end());
-    std::size_t newly_assigned = 0;
-    for (const int index : ws.inliers)
-    {
-      newly_assigned += ws.assigned[static_cast<std::size_t>(index)] == 0 ? 1 : 0;
-      ws.assigned[static_cast<std::size_t>(index)] = 1;
-    }
-    // PCL only returns points among `remaining`; should it ever not, stop rather than spin.
-    if (newly_assigned == 0)
-      break;
-
-    const Eigen::Vector3f ransac_normal = ws.coefficients.head<3>();
-    const std::size_t patch_count = ws.splitPatches(config_.connection_distance);
-    for (std::uint32_t patch = 0; patch < patch_count; ++patch)
-    {
-      if (ws.patch_start[patch + 1] - ws.patch_start[patch] < min_points)
-        continue;
-      objects.emplace_back();
-      ReflectiveObject& object = objects.back();
-      object.id = static_cast<std::uint32_t>(objects.size() - 1);
-      ws.buildObject(ransac_normal, sensor_origin, patch, object);
-    }
-
-    ws.remaining.erase(std::remove_if(ws.remaining.begin(), ws.remaining.end(),
-                                      [&ws](int index) { return ws.assigned[static_cast<std::size_t>(index)] != 0; }),
-                       ws.remaining.end());
+    ws.fitPlanes(sweep, sampling, sensor_origin, config_, nullptr, objects);
+    return;
+  }
+  // Connected groups of surface points first: a plane is fitted to each group on its own, and
+  // a group too small or too thin to hold an object (a line of mixed pixels) costs no RANSAC.
+  const BeamNeighbourhood neighbourhood(sampling, config_.neighbourhood);
+  const std::size_t min_points = static_cast<std::size_t>(std::max(config_.min_object_points, 3));
+  const std::size_t min_across = static_cast<std::size_t>(std::max(config_.min_beams_across, 0));
+  ws.candidates = ws.remaining;
+  const IndexVector& all = ws.candidates;
+  const std::size_t groups = ws.groupOnGrid(sweep, neighbourhood, all);
+  std::swap(ws.candidate_group_start, ws.group_start);
+  std::swap(ws.candidate_group_members, ws.group_members);
+  const std::vector<std::uint32_t>& starts = ws.candidate_group_start;
+  const std::vector<std::uint32_t>& members = ws.candidate_group_members;
+  for (std::size_t g = 0; g < groups; ++g)
+  {
+    const std::size_t size = starts[g + 1] - starts[g];
+    if (size < min_points || ws.beamsAcross(sampling, all, &members[starts[g]], size) < min_across)
+      continue;
+    ws.remaining.clear();
+    for (std::uint32_t m = starts[g]; m < starts[g + 1]; ++m)
+      ws.remaining.push_back(all[members[m]]);
+    std::sort(ws.remaining.begin(), ws.remaining.end());
+    ws.fitPlanes(sweep, sampling, sensor_origin, config_, &neighbourhood, objects);
   }
 }
 

@@ -91,12 +91,16 @@ constexpr std::uint32_t kBoxTestMinPoints = 2 * kBlock;
 
 std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels& labels)
 {
+  return applySphere(sweep, subject, labels, config_.radius);
+}
+
+std::size_t OutlierFilter::applySphere(const Sweep& sweep, Label subject, SweepLabels& labels, double radius)
+{
   // With n_inlier <= 0 nobody can have too few neighbours; relabelling nanPoint as
   // nanPoint changes nothing.
   if (config_.min_neighbors <= 0 || subject == Label::nanPoint)
     return 0;
 
-  const double radius = config_.radius;
   // A NaN or negative radius has no neighbours in it; r = 0 still holds exact duplicates
   // of other beams. Any cell at least r wide is correct, so a degenerate r gets 1 m cells.
   const float r2 = radius >= 0.0 ? static_cast<float>(radius * radius) : -1.0f;
@@ -245,6 +249,149 @@ std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels&
     }
   }
   return removed;
+}
+
+std::size_t OutlierFilter::apply(const Sweep& sweep, const SweepSampling& sampling, Label subject,
+                                 SweepLabels& labels)
+{
+  if (!config_.follows_sampling)
+    return apply(sweep, subject, labels);
+  if (config_.min_neighbors <= 0 || subject == Label::nanPoint)
+    return 0;
+  if (sampling.hasGrid() && sampling.rows * sampling.cols == sweep.beamCount())
+    return applyOnGrid(sweep, sampling, subject, labels);
+  if (sampling.layout == SweepSampling::Layout::unordered)
+    return applySphere(sweep, subject, labels, unorderedRadius(sweep, sampling, subject, labels));
+  // Nothing to judge the points by: only what cannot be a point goes.
+  return markSubjects(sweep, subject, labels);
+}
+
+std::size_t OutlierFilter::markSubjects(const Sweep& sweep, Label subject, SweepLabels& labels)
+{
+  const std::size_t beams = sweep.beamCount();
+  subject_.assign(beams, 0);
+  std::size_t removed = 0;
+  for (std::size_t b = 0; b < beams; ++b)
+  {
+    std::uint8_t bits = 0;
+    for (int k = 0; k < 2; ++k)
+    {
+      Label& label = labels.echoes[k][b];
+      if (label != subject)
+        continue;
+      if (!isFinite(sweep.echoes[k].points[b]))
+      {
+        label = Label::nanPoint;
+        ++removed;
+        continue;
+      }
+      bits |= k == 0 ? kFirst : kSecond;
+    }
+    if ((bits & (kFirst | kSecond)) == (kFirst | kSecond) && sweep.echoes[0].points[b] == sweep.echoes[1].points[b])
+      bits = kFirst | kRepeated;
+    subject_[b] = bits;
+  }
+  return removed;
+}
+
+std::size_t OutlierFilter::supportOnGrid(const Sweep& sweep, const BeamNeighbourhood& neighbourhood, std::size_t beam,
+                                         int echo, std::size_t need) const
+{
+  const Eigen::Vector3f& p = sweep.echoes[echo].points[beam];
+  const float range = sweep.echoes[echo].ranges[beam];
+  const std::size_t cols = neighbourhood.cols();
+  std::size_t count = 0;
+  neighbourhood.anyNeighbour(beam / cols, beam % cols, [&](std::size_t other, std::size_t k) {
+    const std::uint8_t bits = subject_[other];
+    if (bits == 0)
+      return false;
+    const float limit = neighbourhood.limitSquared(range, k);
+    if ((bits & kFirst) && (sweep.echoes[0].points[other] - p).squaredNorm() <= limit)
+      ++count;
+    if ((bits & kSecond) && (sweep.echoes[1].points[other] - p).squaredNorm() <= limit)
+      ++count;
+    return count >= need;
+  });
+  return count;
+}
+
+std::size_t OutlierFilter::applyOnGrid(const Sweep& sweep, const SweepSampling& sampling, Label subject,
+                                       SweepLabels& labels)
+{
+  std::size_t removed = markSubjects(sweep, subject, labels);
+  const BeamNeighbourhood neighbourhood(sampling, config_.neighbourhood);
+  const std::size_t need = static_cast<std::size_t>(config_.min_neighbors);
+  const std::size_t beams = sweep.beamCount();
+  // Decisions read subject_ (the labels before the call) only, so removals cannot cascade.
+  for (std::size_t b = 0; b < beams; ++b)
+  {
+    const std::uint8_t bits = subject_[b];
+    if (bits == 0)
+      continue;
+    if ((bits & kFirst) && supportOnGrid(sweep, neighbourhood, b, 0, need) < need)
+    {
+      labels.echoes[0][b] = Label::nanPoint;
+      ++removed;
+      if (bits & kRepeated)
+      {
+        labels.echoes[1][b] = Label::nanPoint;
+        ++removed;
+      }
+    }
+    if ((bits & kSecond) && supportOnGrid(sweep, neighbourhood, b, 1, need) < need)
+    {
+      labels.echoes[1][b] = Label::nanPoint;
+      ++removed;
+    }
+  }
+  return removed;
+}
+
+std::size_t OutlierFilter::releaseIsolatedSurfaceEchoes(const Sweep& sweep, const SweepSampling& sampling,
+                                                       SweepLabels& labels)
+{
+  if (!config_.follows_sampling || !sampling.hasGrid() || sampling.rows * sampling.cols != sweep.beamCount() ||
+      config_.min_neighbors <= 0)
+    return 0;
+  markSubjects(sweep, Label::errorSurface, labels);
+  const BeamNeighbourhood neighbourhood(sampling, config_.neighbourhood);
+  const std::size_t need = static_cast<std::size_t>(config_.min_neighbors);
+  std::size_t released = 0;
+  for (std::size_t b = 0; b < sweep.beamCount(); ++b)
+  {
+    const std::uint8_t bits = subject_[b];
+    if (bits == 0)
+      continue;
+    const int echo = (bits & kFirst) ? 0 : 1;
+    if (supportOnGrid(sweep, neighbourhood, b, echo, need) >= need)
+      continue;
+    // Its partner is the far echo of the beam (error); a beam has one errorSurface echo.
+    for (int k = 0; k < 2; ++k)
+      if (labels.echoes[k][b] == Label::errorSurface || labels.echoes[k][b] == Label::error)
+        labels.echoes[k][b] = Label::unchecked;
+    ++released;
+  }
+  return released;
+}
+
+double OutlierFilter::unorderedRadius(const Sweep& sweep, const SweepSampling& sampling, Label subject,
+                                      const SweepLabels& labels)
+{
+  // A sample of the subject points' ranges is enough for a percentile.
+  constexpr std::size_t kSamples = 4096;
+  ranges_.clear();
+  const std::size_t beams = sweep.beamCount();
+  const std::size_t stride = beams / kSamples + 1;
+  for (std::size_t b = 0; b < beams; b += stride)
+    for (int k = 0; k < 2; ++k)
+      if (labels.echoes[k][b] == subject && std::isfinite(sweep.echoes[k].ranges[b]))
+        ranges_.push_back(sweep.echoes[k].ranges[b]);
+  if (ranges_.empty())
+    return config_.neighbourhood.noise_floor;
+  const auto at = ranges_.begin() + static_cast<std::ptrdiff_t>(ranges_.size() * 9 / 10);
+  std::nth_element(ranges_.begin(), at, ranges_.end());
+  const BeamNeighbourhoodConfig& n = config_.neighbourhood;
+  return n.noise_floor + n.step_factor * std::max(n.half_width, 1) * sampling.maxStep() * static_cast<double>(*at);
 }
 
 std::size_t OutlierFilter::gather(const Sweep& sweep, Label subject, SweepLabels& labels)

@@ -51,9 +51,19 @@ std::vector<std::string> splitNames(const std::string& names)
   return split;
 }
 
-ParamInfo pipelineRow(const char* field, double Params::*real_field, int Params::*integer_field, double default_value,
-                      const char* name, const char* symbol, const char* aliases, const char* label, ParamBound lower,
-                      ParamBound upper, const char* greater_than, const char* unit, const char* doc)
+// A pipeline row's default: a value, or automatic (kAutomatic and what it follows).
+struct PipelineDefault
+{
+  PipelineDefault(double v) : value(v), automatic("") {}  // NOLINT: rows write plain numbers
+  PipelineDefault(AutomaticDefault a) : value(kAutomatic), automatic(a.meaning) {}  // NOLINT
+  double value;
+  const char* automatic;
+};
+
+ParamInfo pipelineRow(const char* field, double Params::*real_field, int Params::*integer_field,
+                      PipelineDefault default_value, const char* name, const char* symbol, const char* aliases,
+                      const char* label, ParamBound lower, ParamBound upper, const char* greater_than,
+                      const char* unit, const char* doc)
 {
   return ParamInfo{ name,
                     symbol,
@@ -62,7 +72,7 @@ ParamInfo pipelineRow(const char* field, double Params::*real_field, int Params:
                     real_field != nullptr ? ParamType::real : ParamType::integer,
                     ParamScope::pipeline,
                     true,
-                    number(default_value),
+                    number(default_value.value),
                     lower,
                     upper,
                     greater_than,
@@ -73,10 +83,11 @@ ParamInfo pipelineRow(const char* field, double Params::*real_field, int Params:
                     nullptr,
                     field,
                     real_field,
-                    integer_field };
+                    integer_field,
+                    default_value.automatic };
 }
 
-ParamInfo pipelineRow(const char* field, double Params::*real_field, double default_value, const char* name,
+ParamInfo pipelineRow(const char* field, double Params::*real_field, PipelineDefault default_value, const char* name,
                       const char* symbol, const char* aliases, const char* label, ParamBound lower, ParamBound upper,
                       const char* greater_than, const char* unit, const char* doc)
 {
@@ -84,7 +95,7 @@ ParamInfo pipelineRow(const char* field, double Params::*real_field, double defa
                      greater_than, unit, doc);
 }
 
-ParamInfo pipelineRow(const char* field, int Params::*integer_field, double default_value, const char* name,
+ParamInfo pipelineRow(const char* field, int Params::*integer_field, PipelineDefault default_value, const char* name,
                       const char* symbol, const char* aliases, const char* label, ParamBound lower, ParamBound upper,
                       const char* greater_than, const char* unit, const char* doc)
 {
@@ -98,7 +109,7 @@ ParamInfo startUpRow(ParamScope scope, ParamType type, const char* name, const c
 {
   return ParamInfo{ name,  "",    splitNames(aliases), name,    type,       scope, false, default_value,
                     lower, upper, "",                  unit,    doc,        allowed, checked_by,
-                    check, "",    nullptr,             nullptr };
+                    check, "",    nullptr,             nullptr, "" };
 }
 
 // The names users see: the ROS parameter name (original launch file) and its label.
@@ -128,7 +139,10 @@ bool satisfies(double value, const ParamBound& lower, const ParamBound& upper)
 // the upper bound, or not above the parameter it must exceed.
 void checkValue(const ParamInfo& param, double value, const Params& params, std::vector<std::string>& errors)
 {
-  const std::string unit = std::string(" ") + param.unit;
+  if (param.isAutomatic(params))
+    return;
+  // The range of an automatic parameter's own values, and the value that leaves it to the sensor.
+  const std::string unit = std::string(" ") + param.unit + (*param.automatic != '\0' ? ", or 0: automatic" : "");
   if (!std::isfinite(value) || !satisfies(value, param.lower, ParamBound()))
   {
     if (param.lower.present)
@@ -193,6 +207,11 @@ std::vector<std::string> ParamInfo::names() const
 double ParamInfo::value(const Params& params) const
 {
   return real_field != nullptr ? params.*real_field : static_cast<double>(params.*integer_field);
+}
+
+bool ParamInfo::isAutomatic(const Params& params) const
+{
+  return *automatic != '\0' && value(params) == kAutomatic;
 }
 
 const std::vector<ParamInfo>& parameterTable()

@@ -21,6 +21,42 @@ const Params& checked(const Params& params)
     message += "\n  " + error;
   throw std::invalid_argument(message);
 }
+// Bits of Pipeline::in_range_ per beam.
+constexpr std::uint8_t kFirstInRange = 1;
+constexpr std::uint8_t kSecondInRange = 2;  // a point of its own (not echo 1 repeated)
+constexpr std::uint8_t kTwoReturns = 4;     // both, and they differ
+
+// Counts the points the range gate left (a single return repeated in both echoes once) and
+// marks them per beam, so that what the outlier filter removes of them can be counted after it.
+void countInRange(const Sweep& sweep, const SweepLabels& labels, std::vector<std::uint8_t>& marks,
+                  RemovalCounts& counts)
+{
+  const std::size_t beams = sweep.beamCount();
+  marks.resize(beams);
+  counts = RemovalCounts();
+  for (std::size_t b = 0; b < beams; ++b)
+  {
+    const bool first = labels.echoes[0][b] != Label::nanPoint;
+    const bool second = labels.echoes[1][b] != Label::nanPoint &&
+                        !(first && sweep.echoes[1].points[b] == sweep.echoes[0].points[b]);
+    marks[b] = static_cast<std::uint8_t>((first ? kFirstInRange : 0) | (second ? kSecondInRange : 0) |
+                                         (first && second ? kTwoReturns : 0));
+    counts.in_range_points += (first ? 1 : 0) + (second ? 1 : 0);
+    counts.second_returns += first && second ? 1 : 0;
+  }
+}
+
+void countRemoved(const std::vector<std::uint8_t>& marks, const SweepLabels& labels, RemovalCounts& counts)
+{
+  for (std::size_t b = 0; b < marks.size(); ++b)
+  {
+    const std::uint8_t m = marks[b];
+    const bool first_removed = (m & kFirstInRange) && labels.echoes[0][b] == Label::nanPoint;
+    const bool second_removed = (m & kSecondInRange) && labels.echoes[1][b] == Label::nanPoint;
+    counts.outlier_removed += (first_removed ? 1 : 0) + (second_removed ? 1 : 0);
+    counts.second_returns_removed += (m & kTwoReturns) && second_removed ? 1 : 0;
+  }
+}
 }  // namespace
 
 class Pipeline::StageClock
@@ -51,20 +87,24 @@ Pipeline::Stages::Stages(const StageConfigs& configs)
   , outlier_filter(configs.outlier_filter)
   , echo_comparison(configs.echo_comparison)
   , object_extractor(configs.object_extraction)
+  , mixed_pixels(configs.mixed_pixels)
   , type_analyzer(configs.object_type)
   , cone_labelling(configs.cone_labelling)
   , min_object_points(static_cast<std::size_t>(configs.object_extraction.min_object_points))
 {
 }
 
-Pipeline::Pipeline(const Params& params) : params_(checked(params)), stages_(stageConfigs(params_))
+Pipeline::Pipeline(const Params& params)
+  : params_(checked(params)), configs_(stageConfigs(params_)), stages_(configs_)
 {
 }
 
 void Pipeline::setParams(const Params& params)
 {
-  Stages stages(stageConfigs(checked(params)));
+  StageConfigs configs = stageConfigs(checked(params));
+  Stages stages(configs);
   stages_ = std::move(stages);
+  configs_ = configs;
   params_ = params;
 }
 
@@ -92,17 +132,36 @@ void Pipeline::detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, 
   Stages& s = stages_;
   r.labels.reset(sweep.beamCount());
   r.objects.clear();
+  r.released_surface_beams = 0;
+  r.mixed_pixel_beams = 0;
+  r.sampling = sampling_estimator_.estimate(sweep, sensor_origin);
+  r.times.sampling = clock.lap();
   r.range_gated_points = s.range_gate.apply(sweep, r.labels);
+  countInRange(sweep, r.labels, in_range_, r.removals);
   r.times.range_gate = clock.lap();
-  r.outlier_points = s.outlier_filter.apply(sweep, Label::unchecked, r.labels);
+  r.outlier_points = s.outlier_filter.apply(sweep, r.sampling, Label::unchecked, r.labels);
+  countRemoved(in_range_, r.labels, r.removals);
   r.times.outlier_filter = clock.lap();
   r.error_surface_points = s.echo_comparison.apply(sweep, r.labels);
   r.times.echo_comparison = clock.lap();
-  if (r.error_surface_points < s.min_object_points)
-    return;
-  r.outlier_points += s.outlier_filter.apply(sweep, Label::errorSurface, r.labels);
-  r.times.outlier_filter += clock.lap();
-  s.object_extractor.extract(sweep, sensor_origin, r.labels, r.objects);
+  // Too few surface echoes for an object: only the mixed pixels among them are to be found.
+  if (r.error_surface_points >= s.min_object_points)
+  {
+    if (configs_.outlier_filter.follows_sampling)
+    {
+      r.released_surface_beams = s.outlier_filter.releaseIsolatedSurfaceEchoes(sweep, r.sampling, r.labels);
+    }
+    else
+    {
+      r.removals.surface_echoes = r.error_surface_points;
+      r.removals.surface_echoes_removed = s.outlier_filter.apply(sweep, Label::errorSurface, r.labels);
+      r.outlier_points += r.removals.surface_echoes_removed;
+    }
+    r.times.outlier_filter += clock.lap();
+    s.object_extractor.extract(sweep, r.sampling, sensor_origin, r.labels, r.objects);
+  }
+  if (r.error_surface_points > 0)
+    r.mixed_pixel_beams = s.mixed_pixels.release(sweep, r.sampling, r.objects, r.labels);
   r.times.object_extraction = clock.lap();
   if (!r.objects.empty())
     s.type_analyzer.beginSweep(sweep);

@@ -1,19 +1,63 @@
 #include "ohm_mirror_detector3d/core/stage_configs.h"
 
+#include <cmath>
+
+#include "ohm_mirror_detector3d/core/param_table.h"
+
 namespace ohm_mirror_detector3d
 {
 namespace core
 {
+namespace
+{
+bool isAutomatic(const Params& params, const char* name)
+{
+  return findParameter(name)->isAutomatic(params);
+}
+
+// Rings of beams around a point that hold at least `neighbours` beams: (2 w + 1)^2 - 1 >= n,
+// at most kMaxHalfWidth (beyond it a neighbour is no longer near; more neighbours than that
+// window holds leave every point an outlier, as the user asked).
+constexpr int kMaxHalfWidth = 8;
+int halfWidthHolding(int neighbours)
+{
+  int w = 1;
+  while (w < kMaxHalfWidth && (2 * w + 1) * (2 * w + 1) - 1 < neighbours)
+    ++w;
+  return w;
+}
+}  // namespace
+
 StageConfigs stageConfigs(const Params& params)
 {
+  const bool radius_automatic = isAutomatic(params, "outlierFilter_searchRadius");
+  const bool neighbours_automatic = isAutomatic(params, "outlierFilter_minNeighbors");
+  const int min_neighbors = neighbours_automatic ? kAutomaticMinNeighbors : params.outlier_min_neighbors;
+  BeamNeighbourhoodConfig around;
+  around.half_width = 1;
+  around.step_factor = kNeighbourStepFactor;
+  // Two returns closer than d_thres are one surface, whatever the sampling.
+  around.noise_floor = params.echo_threshold;
+
   StageConfigs configs;
   configs.range_gate = RangeGateConfig{ params.min_range, params.max_range };
-  configs.outlier_filter = OutlierFilterConfig{ params.outlier_radius, params.outlier_min_neighbors };
+  configs.outlier_filter.radius = params.outlier_radius;
+  configs.outlier_filter.min_neighbors = min_neighbors;
+  configs.outlier_filter.follows_sampling = radius_automatic;
+  configs.outlier_filter.neighbourhood = around;
+  configs.outlier_filter.neighbourhood.half_width = halfWidthHolding(min_neighbors);
   configs.echo_comparison = EchoComparisonConfig{ params.echo_threshold };
   // Surface echoes of one object are as dense as the points the outlier filter keeps: its
-  // radius also decides which of them are connected.
-  configs.object_extraction =
-      ObjectExtractionConfig{ params.plane_threshold, params.min_object_points, params.outlier_radius };
+  // neighbourhood also decides which of them are connected.
+  configs.object_extraction.plane_threshold = params.plane_threshold;
+  configs.object_extraction.min_object_points =
+      isAutomatic(params, "planeDetection_minAmountPoints") ? kAutomaticMinObjectPoints : params.min_object_points;
+  configs.object_extraction.connection_distance = params.outlier_radius;
+  configs.object_extraction.follows_sampling = radius_automatic;
+  configs.object_extraction.neighbourhood = around;
+  // The original's metric r, set, is honoured as the original used it: no test in beams.
+  configs.object_extraction.min_beams_across = radius_automatic ? kMinBeamsAcross : 0;
+  configs.mixed_pixels = MixedPixelConfig{ around };
   configs.object_type =
       ObjectTypeConfig{ params.plane_threshold,       params.vision_cone_margin, params.icp_max_distance,
                         params.icp_fitness_threshold, params.icp_min_points,     params.icp_min_inlier_fraction };

@@ -193,7 +193,9 @@ class FilterResult:
       phantom_points, transmitted_points, ambiguous_points, undecided_points, the type's evidence
       mirrored_points, tested_points, inlier_fraction, real_fraction, landing_fitness,
       plane_refined, plane_correction, and mean_surface_intensity).
-    stats: point counts of the stages and the core's wall time.
+    stats: point counts of the stages and the core's wall time; "warnings": a sentence for each stage
+      that removed an implausible share of the sweep (e.g. the outlier filter more than 10 % of the points
+      in range), naming the parameter and the share (what the node logs and reports on /diagnostics).
     """
     mode: str
     labelled: np.ndarray
@@ -201,6 +203,11 @@ class FilterResult:
     objects: List[dict]
     stats: dict
     shape: tuple
+
+    @property
+    def warnings(self) -> List[str]:
+        """stats['warnings']: empty when every stage removed a plausible share of the sweep."""
+        return list(self.stats.get('warnings', []))
 
     @property
     def labels(self) -> np.ndarray:

@@ -67,6 +67,8 @@ def allowed(row, ascii_only=False):
     if row['above']:
         parts.append('> ' + _row(row['above'])['label'])
     parts += ['< ' + other['label'] for other in PARAMETER_TABLE if other['above'] == row['name']]
+    if row.get('automatic'):
+        parts.append('0: automatic')
     return ', '.join(parts)
 
 
@@ -108,6 +110,8 @@ def _names(row):
 
 
 def _default(row):
+    if row.get('automatic'):
+        return '0: automatic, %s' % row['automatic']
     if row['type'] in ('real', 'integer'):
         return repr(row['default'])
     if row['default']:

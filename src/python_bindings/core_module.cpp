@@ -29,6 +29,7 @@
 #include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/pipeline.h"
+#include "ohm_mirror_detector3d/core/removal_report.h"
 
 namespace py = pybind11;
 using namespace ohm_mirror_detector3d;
@@ -201,6 +202,7 @@ py::list parameterTable()
     else
       row["default"] = param.default_value.text;
     row["when_unset"] = textOrNone(param.default_value.when_unset);
+    row["automatic"] = textOrNone(param.automatic);  // what an automatic parameter at 0 follows
     row["lower"] = boundOf(param.lower);
     row["upper"] = boundOf(param.upper);
     row["above"] = textOrNone(param.above);
@@ -265,13 +267,31 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   return d;
 }
 
-py::dict statsOf(const core::PipelineResult& r)
+py::dict statsOf(const core::PipelineResult& r, const core::Params& params)
 {
   py::dict stats;
   stats["range_gated_points"] = r.range_gated_points;
   stats["outlier_points"] = r.outlier_points;
   stats["error_surface_points"] = r.error_surface_points;
   stats["seconds"] = r.times.total;
+  py::dict stage_seconds;
+  stage_seconds["sampling"] = r.times.sampling;
+  stage_seconds["range_gate"] = r.times.range_gate;
+  stage_seconds["outlier_filter"] = r.times.outlier_filter;
+  stage_seconds["echo_comparison"] = r.times.echo_comparison;
+  stage_seconds["object_extraction"] = r.times.object_extraction;
+  stage_seconds["type_analysis"] = r.times.type_analysis;
+  stage_seconds["object_stages"] = r.times.object_stages;
+  stage_seconds["cone_labelling"] = r.times.cone_labelling;
+  stage_seconds["cleaned_output"] = r.times.cleaned_output;
+  stats["stage_seconds"] = stage_seconds;
+  stats["released_surface_beams"] = r.released_surface_beams;
+  stats["mixed_pixel_beams"] = r.mixed_pixel_beams;
+  // A stage that removed an implausible share of the sweep, in words (core/removal_report.h).
+  py::list warnings;
+  for (const std::string& warning : core::removalWarnings(r.removals, params))
+    warnings.append(warning);
+  stats["warnings"] = warnings;
   return stats;
 }
 
@@ -358,7 +378,7 @@ public:
       py::gil_scoped_acquire acquire;
       cleaned = cleanedArray(r.cleaned);
       objects = objectList(r.objects);
-      stats = statsOf(r);
+      stats = statsOf(r, pipeline_.params());
     }
     return py::make_tuple(labelled, cleaned, objects, stats);
   }
@@ -400,14 +420,14 @@ public:
       input_.has_intensity = intensity_data != nullptr;
       input_.returns.assign(returns_data, returns_data + n);
       input_.rings.assign(rings_data, rings_data + n);
-      const core::DualReturnStats binning = core::binDualReturns(input_, azimuth_resolution_deg, sweep_);
+      const core::DualReturnStats binning = binner_.bin(input_, azimuth_resolution_deg, sweep_);
       const core::PipelineResult& r = pipeline_.process(sweep_, context_);
       // The input's order and count; points in no grid cell are nanPoint, echo 0.
       core::writeLabelledRecords(sweep_, r.labels, records);
       py::gil_scoped_acquire acquire;
       cleaned = cleanedArray(r.cleaned);
       objects = objectList(r.objects);
-      stats = statsOf(r);
+      stats = statsOf(r, pipeline_.params());
       stats["rows"] = sweep_.rows;
       stats["cols"] = sweep_.cols;
       stats["return_base"] = binning.return_base;
@@ -415,6 +435,8 @@ public:
       stats["paired_beams"] = binning.paired_beams;
       stats["single_beams"] = binning.single_beams;
       stats["unbinned_points"] = binning.unbinned();
+      stats["azimuth_resolution_deg"] = binning.azimuth_resolution_deg;
+      stats["azimuth_from_cloud"] = binning.azimuth_from_cloud;
     }
     return py::make_tuple(labelled, cleaned, objects, stats);
   }
@@ -426,6 +448,7 @@ private:
   // Arrays from Python carry no stamp or frame; their points are in the scanner's frame.
   const core::SweepContext context_;
   core::DualReturnInput input_;
+  core::DualReturnBinner binner_;
 };
 }  // namespace
 
@@ -458,7 +481,7 @@ PYBIND11_MODULE(_core, m)
            "(labelled, cleaned, objects, stats) of two index-aligned echoes.")
       .def("filter_dual_return", &PythonPipeline::filterDualReturn, py::arg("points"), py::arg("returns"),
            py::arg("rings"), py::arg("intensities") = py::none(),
-           py::arg("azimuth_resolution_deg") = core::kDefaultAzimuthResolutionDeg,
+           py::arg("azimuth_resolution_deg") = core::kAzimuthStepFromCloud,
            "(labelled, cleaned, objects, stats) of one cloud holding both returns.");
 
   m.attr("OUTPUT_DTYPE") = py::dtype::of<core::OutputRecord>();

@@ -20,6 +20,7 @@
 #include <set>
 #include <sstream>
 
+#include "ohm_mirror_detector3d/core/removal_report.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/message_pipeline.h"
 #include "ohm_mirror_detector3d/ros/sweep_input.h"
@@ -272,6 +273,7 @@ public:
     ++summary_.sweeps_processed;
     for (const core::ReflectiveObject& object : result.objects)
       ++summary_.objects_by_type[core::objectTypeName(object.type)];
+    warnImplausibleRemovals(result);
     out_.write(labelled_topic_, bag_time_, *outputs.labelled);
     out_.write(cleaned_topic_, bag_time_, *outputs.cleaned);
     out_.write(objects_topic_, bag_time_, *outputs.objects);
@@ -308,6 +310,21 @@ public:
   }
 
 private:
+  // Like the nodelet's throttled warning: the first few sweeps in full, then only a count at the end.
+  void warnImplausibleRemovals(const core::PipelineResult& result)
+  {
+    const std::vector<std::string> warnings = core::removalWarnings(result.removals, pipeline_.params());
+    if (warnings.empty())
+      return;
+    const std::size_t seen = ++implausible_sweeps_;
+    if (seen > kReportedDropsPerReason && !options_.verbose)
+      return;
+    for (const std::string& warning : warnings)
+      log_ << "prefilter_bag: warning at bag time " << bag_time_ << ": " << warning << "\n";
+    if (seen == kReportedDropsPerReason && !options_.verbose)
+      log_ << "prefilter_bag: (further sweeps with an implausible removal are not shown)\n";
+  }
+
   const BagToolOptions& options_;
   MessagePipeline pipeline_;
   rosbag::Bag& out_;
@@ -317,6 +334,7 @@ private:
   Clock::time_point message_start_ = Clock::now();
   ros::Time bag_time_;
   std::map<std::string, std::size_t> warnings_;  // text -> count, to limit the lines
+  std::size_t implausible_sweeps_ = 0;
 };
 
 // Fills `tf` from a /tf or /tf_static message, as a tf listener does; a message or transform

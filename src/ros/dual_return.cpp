@@ -15,7 +15,7 @@ const char* const kRingFieldNames[2] = { "ring", "channel" };
 
 double readAzimuthResolution(const ParamSource& source, std::vector<std::string>& errors)
 {
-  double resolution = core::kDefaultAzimuthResolutionDeg;
+  double resolution = core::kAzimuthStepFromCloud;
   if (source.has("azimuth_resolution_deg") && !source.get("azimuth_resolution_deg", resolution))
     errors.push_back("parameter " + source.describe("azimuth_resolution_deg") +
                      " has the wrong type: expected a number");
@@ -38,16 +38,17 @@ std::string readDualReturnCloud(const sensor_msgs::PointCloud2& cloud, core::Dua
 }
 
 std::string dualReturnCloudToSweep(const sensor_msgs::PointCloud2& cloud, double azimuth_resolution_deg,
-                                   core::DualReturnInput& input, core::Sweep& sweep, core::DualReturnStats& stats)
+                                   core::DualReturnInput& input, core::DualReturnBinner& binner, core::Sweep& sweep,
+                                   core::DualReturnStats& stats)
 {
   const std::string problem = readDualReturnCloud(cloud, input);
   if (!problem.empty())
     return problem;
-  stats = core::binDualReturns(input, azimuth_resolution_deg, sweep);
+  stats = binner.bin(input, azimuth_resolution_deg, sweep);
   return "";
 }
 
-std::string describeUnbinned(const core::DualReturnStats& stats, double azimuth_resolution_deg)
+std::string describeUnbinned(const core::DualReturnStats& stats)
 {
   if (stats.ring_out_of_range + stats.return_out_of_range + stats.duplicates == 0)
     return "";
@@ -59,9 +60,16 @@ std::string describeUnbinned(const core::DualReturnStats& stats, double azimuth_
     text << " " << stats.return_out_of_range << " with a return index other than " << stats.return_base << " or "
          << stats.return_base + 1 << " (only the first two returns are compared);";
   if (stats.duplicates > 0)
-    text << " " << stats.duplicates << " sharing a ring and azimuth bin with another point of the same return"
-         << " (is azimuth_resolution_deg = " << azimuth_resolution_deg
-         << " coarser than the lidar's azimuth step?);";
+  {
+    text << " " << stats.duplicates << " sharing a ring and azimuth bin with another point of the same return";
+    if (stats.azimuth_from_cloud)
+      text << " (bins of " << stats.azimuth_resolution_deg
+           << " deg, the azimuth step worked out from the cloud: its firings are not evenly spaced; give "
+              "azimuth_resolution_deg);";
+    else
+      text << " (is azimuth_resolution_deg = " << stats.azimuth_resolution_deg
+           << " coarser than the lidar's azimuth step? Leave it unset to work it out from the cloud);";
+  }
   if (stats.no_return > 0)
     text << " " << stats.no_return << " without a return (non-finite or at the origin)";
   return text.str();

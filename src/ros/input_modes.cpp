@@ -299,6 +299,8 @@ public:
 
   std::string describe() const override
   {
+    if (azimuth_resolution_deg_ == core::kAzimuthStepFromCloud)
+      return "dual_return: the azimuth bins follow each cloud's azimuth step (azimuth_resolution_deg not given)";
     const std::size_t bins = core::azimuthBins(azimuth_resolution_deg_);
     char line[96];
     std::snprintf(line, sizeof(line), "dual_return: %zu azimuth bins of %.8g deg", bins,
@@ -310,10 +312,11 @@ private:
   void onCloud(const sensor_msgs::PointCloud2& cloud, const InputSink& sink)
   {
     core::DualReturnStats stats;
-    const std::string problem = dualReturnCloudToSweep(cloud, azimuth_resolution_deg_, buffer_, sweep_, stats);
+    const std::string problem =
+        dualReturnCloudToSweep(cloud, azimuth_resolution_deg_, buffer_, binner_, sweep_, stats);
     if (!problem.empty())
       return reportDropped(sink, "sweep", topic_, problem);
-    const std::string unbinned = describeUnbinned(stats, azimuth_resolution_deg_);
+    const std::string unbinned = describeUnbinned(stats);
     if (!unbinned.empty())
       sink.receiver.inputProblem(InputProblem{ false, "sweep", topic_, unbinned });
     sink.receiver.sweepReady(sweep_, toSweepContext(cloud.header));
@@ -322,6 +325,7 @@ private:
   std::string topic_;
   double azimuth_resolution_deg_;
   core::DualReturnInput buffer_;
+  core::DualReturnBinner binner_;
   core::Sweep sweep_;
 };
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/removal_report.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
@@ -18,6 +19,8 @@ namespace
 {
 // How often what waits for tf (scans, sensor_frame sweeps) is tried again.
 constexpr double kTfPollSeconds = 0.02;
+// A stage that removes an implausible share says so at most this often (every sweep may).
+constexpr double kRemovalWarningSeconds = 10.0;
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -329,6 +332,15 @@ void PreFilterNodelet::processAndPublish(const core::SweepContext& context)
   const core::PipelineResult& result = pipeline_.process(context, request, outputs);
   const double seconds = std::chrono::duration<double>(ros_io::ProcessingStats::Clock::now() - start).count();
   stats_.recordProcessed(seconds, result.objects.size(), pipeline_.sweep().beamCount() * 2);
+  const std::vector<std::string> warnings = core::removalWarnings(result.removals, pipeline_.params());
+  if (!warnings.empty())
+  {
+    std::string text = warnings.front();
+    for (std::size_t i = 1; i < warnings.size(); ++i)
+      text += "; " + warnings[i];
+    stats_.recordImplausibleRemoval(text);
+    NODELET_WARN_STREAM_THROTTLE(kRemovalWarningSeconds, text);
+  }
   if (outputs.labelled)
     labelled_pub_.publish(outputs.labelled);
   if (outputs.cleaned)

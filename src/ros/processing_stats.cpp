@@ -20,6 +20,13 @@ void ProcessingStats::recordProcessed(double seconds, std::size_t objects, std::
   last_points_ = points;
 }
 
+void ProcessingStats::recordImplausibleRemoval(const std::string& description)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++implausible_;
+  last_implausible_removal_ = description;
+}
+
 void ProcessingStats::recordDropped(const std::string& problem)
 {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -48,6 +55,9 @@ void ProcessingStats::report(diagnostic_updater::DiagnosticStatusWrapper& status
   else if (dropped_ > 0)
     status.summaryf(DiagnosticStatus::WARN, "%lu of %lu inputs dropped: %s", static_cast<unsigned long>(dropped_),
                     static_cast<unsigned long>(received), last_problem_.c_str());
+  else if (implausible_ > 0)
+    status.summaryf(DiagnosticStatus::WARN, "in %lu of %lu sweeps %s", static_cast<unsigned long>(implausible_),
+                    static_cast<unsigned long>(processed_), last_implausible_removal_.c_str());
   else if (received > 0)
     status.summary(DiagnosticStatus::OK, "processing sweeps");
   else if (subscribed && !publisher_problem_.empty())
@@ -68,10 +78,13 @@ void ProcessingStats::report(diagnostic_updater::DiagnosticStatusWrapper& status
   status.addf("objects in last sweep", "%zu", last_objects_);
   status.addf("points in last sweep", "%zu", last_points_);
   status.add("last drop reason", last_problem_.empty() ? std::string("none") : last_problem_);
+  status.add("last implausible removal",
+             last_implausible_removal_.empty() ? std::string("none") : last_implausible_removal_);
 
   interval_start_ = now;
   processed_ = 0;
   dropped_ = 0;
+  implausible_ = 0;
   seconds_sum_ = 0.0;
   seconds_max_ = 0.0;
 }

@@ -49,8 +49,10 @@ protected:
 TEST_F(DualReturn, AzimuthResolutionIsValidatedWithItsName)
 {
   EXPECT_EQ(core::validateAzimuthResolution(0.2), "");
-  EXPECT_EQ(core::validateAzimuthResolution(core::kDefaultAzimuthResolutionDeg), "");
-  for (double bad : { 0.0, -0.2, 0.001, 45.0, std::nan("") })
+  EXPECT_EQ(core::validateAzimuthResolution(360.0 / 2048.0), "");
+  // 0: not given, worked out from the cloud.
+  EXPECT_EQ(core::validateAzimuthResolution(core::kAzimuthStepFromCloud), "");
+  for (double bad : { -0.2, 0.001, 45.0, std::nan("") })
   {
     const std::string message = core::validateAzimuthResolution(bad);
     EXPECT_NE(message.find("azimuth_resolution_deg"), std::string::npos) << bad;

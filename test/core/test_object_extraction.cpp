@@ -98,7 +98,18 @@ struct Scene
   }
 };
 
-std::vector<ReflectiveObject> extract(const Scene& scene, const core::Params& params = core::Params())
+// These scenes are metric lattices with no scan order: the tests pin the original's metric
+// parameters (r = 0.1 m, n_object = 100), set explicitly, which the extraction honours.
+core::Params metricParams()
+{
+  core::Params params;
+  params.outlier_radius = 0.1;
+  params.outlier_min_neighbors = 50;
+  params.min_object_points = 100;
+  return params;
+}
+
+std::vector<ReflectiveObject> extract(const Scene& scene, const core::Params& params = metricParams())
 {
   core::ObjectExtractor extractor(core::stageConfigs(params).object_extraction);
   std::vector<ReflectiveObject> objects;
@@ -304,7 +315,7 @@ TEST(ObjectExtraction, TwoPlanesAreTwoObjectsLargestFirst)
 
 TEST(ObjectExtraction, APatchWithTooFewPointsIsNoObject)
 {
-  core::Params params;
+  core::Params params = metricParams();
   Rect small = wallMirror();
   small.width = 0.2f;
   small.height = 0.2f;  // 10 x 10 = 100 points on a 2 cm lattice
@@ -425,7 +436,7 @@ TEST(ObjectExtraction, IsDeterministic)
   const Scene scene = busyScene(11);
   const core::Sweep sweep = scene.sweep();
   const core::SweepLabels labels = scene.labels();
-  const core::ObjectExtractionConfig config = core::stageConfigs(core::Params()).object_extraction;
+  const core::ObjectExtractionConfig config = core::stageConfigs(metricParams()).object_extraction;
   core::ObjectExtractor extractor(config);
   std::vector<ReflectiveObject> first, second, fresh;
   extractor.extract(sweep, Vector3f::Zero(), labels, first);
@@ -446,7 +457,7 @@ TEST(ObjectExtraction, ReusesItsBuffersAcrossSweeps)
   Scene c;                            // smaller than both
   c.add(lattice(wallMirror(), 3.0f * kCm));
 
-  core::ObjectExtractor extractor(core::stageConfigs(core::Params()).object_extraction);
+  core::ObjectExtractor extractor(core::stageConfigs(metricParams()).object_extraction);
   std::vector<ReflectiveObject> a1, b1, c1, a2;
   extractor.extract(a.sweep(), Vector3f::Zero(), a.labels(), a1);
   extractor.extract(b.sweep(), Vector3f::Zero(), b.labels(), b1);
@@ -487,7 +498,7 @@ TEST(ObjectExtraction, RangeNoiseOfOneCentimetreKeepsTheSizeWithinTwo)
 TEST(ObjectExtraction, RangeNoiseOfThreeCentimetresKeepsTheSizeWithinTwo)
 {
   // The Hokuyo's specified +-3 cm as sigma, with d_thres_plane raised to keep the points.
-  core::Params params;
+  core::Params params = metricParams();
   params.plane_threshold = 0.12;
   for (unsigned seed = 1; seed <= 5; ++seed)
   {

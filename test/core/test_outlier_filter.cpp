@@ -429,9 +429,9 @@ TEST(OutlierFilter, HandlesDegenerateParameters)
     EXPECT_EQ(filterFor(outlierParams(-0.1, 1)).apply(sweep, Label::unchecked, labels), subjects);
   }
   {
-    // n_inlier <= 0 is met by every point.
+    // n_inlier < 0 is met by every point (0 is automatic).
     core::SweepLabels labels = before;
-    EXPECT_EQ(filterFor(outlierParams(0.1, 0)).apply(sweep, Label::unchecked, labels), 0u);
+    EXPECT_EQ(filterFor(outlierParams(0.1, -1)).apply(sweep, Label::unchecked, labels), 0u);
     expectSameLabels(labels, before);
   }
 }

@@ -103,7 +103,14 @@ TEST(ParamTable, ValidateRefusesEveryValueJustOutsideTheTablesRangeAndAcceptsIts
     // An inclusive bound is allowed, the value one step beyond it is not; an exclusive bound
     // is refused itself.
     EXPECT_EQ(withValue(param, param.lower.inclusive ? lower : lower + step).validate().empty(), true);
-    const std::vector<std::string> below = withValue(param, param.lower.inclusive ? lower - step : lower).validate();
+    double refused = param.lower.inclusive ? lower - step : lower;
+    // 0 of a parameter that follows the sensor is "not set", no value out of range.
+    if (*param.automatic != '\0' && refused == core::kAutomatic)
+    {
+      EXPECT_TRUE(withValue(param, core::kAutomatic).validate().empty());
+      refused -= step;
+    }
+    const std::vector<std::string> below = withValue(param, refused).validate();
     EXPECT_TRUE(mentions(below, named)) << (below.empty() ? "accepted" : below.front());
     EXPECT_TRUE(mentions(below, "is out of range: must be finite and " +
                                     std::string(param.lower.inclusive ? ">= " : "> ")));
@@ -188,7 +195,9 @@ TEST(ParamTable, TheAzimuthResolutionRowIsWhatItsCheckAccepts)
 {
   const ParamInfo& param = *core::findParameter("azimuth_resolution_deg");
   EXPECT_EQ(param.scope, ParamScope::core_input);
-  EXPECT_EQ(param.default_value.number, core::kDefaultAzimuthResolutionDeg);
+  // Not given: worked out from each cloud, which the check accepts as the value 0.
+  EXPECT_EQ(param.default_value.number, core::kAzimuthStepFromCloud);
+  EXPECT_STRNE(param.default_value.when_unset, "");
   ASSERT_TRUE(param.lower.present && param.lower.inclusive && param.upper.present && param.upper.inclusive);
   ASSERT_EQ(param.check, &core::validateAzimuthResolution);
   EXPECT_EQ(param.check(param.lower.value), "");

@@ -17,16 +17,18 @@ bool mentions(const std::vector<std::string>& errors, const std::string& text)
   return false;
 }
 
-TEST(Params, DefaultsAreTheOriginalLaunchFileValues)
+TEST(Params, DefaultsAreTheOriginalLaunchFileValuesExceptWhereTheyFollowTheSensor)
 {
   const core::Params params;
   EXPECT_DOUBLE_EQ(params.min_range, 0.023);
   EXPECT_DOUBLE_EQ(params.max_range, 60.0);
-  EXPECT_DOUBLE_EQ(params.outlier_radius, 0.1);
-  EXPECT_EQ(params.outlier_min_neighbors, 50);
+  // The original's 0.1 m / 50 neighbours / 100 points fit one scanner at one speed: unset,
+  // they follow each sweep's sampling (stage_configs.h).
+  EXPECT_EQ(params.outlier_radius, core::kAutomatic);
+  EXPECT_EQ(params.outlier_min_neighbors, core::kAutomatic);
+  EXPECT_EQ(params.min_object_points, core::kAutomatic);
   EXPECT_DOUBLE_EQ(params.echo_threshold, 0.05);
   EXPECT_DOUBLE_EQ(params.plane_threshold, 0.05);
-  EXPECT_EQ(params.min_object_points, 100);
   EXPECT_DOUBLE_EQ(params.vision_cone_margin, 0.05);
   EXPECT_TRUE(params.validate().empty());
 }
@@ -35,7 +37,7 @@ TEST(Params, NamesEveryBadValueWithItsRosAndPaperName)
 {
   core::Params params;
   params.outlier_radius = -0.1;
-  params.outlier_min_neighbors = 0;
+  params.outlier_min_neighbors = -1;  // 0 would be automatic
   params.echo_threshold = std::numeric_limits<double>::quiet_NaN();
   params.plane_threshold = 0.0;
   params.min_object_points = 2;

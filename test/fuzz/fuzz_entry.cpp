@@ -218,11 +218,12 @@ FuzzOutcome runFuzzInput(const std::uint8_t* data, std::size_t size)
       outcome.deserialized = true;
       header = cloud.header;
       core::DualReturnInput input;
+      core::DualReturnBinner binner;
       core::DualReturnStats stats;
-      problem = ros_io::dualReturnCloudToSweep(cloud, core::kDefaultAzimuthResolutionDeg, input, pipeline.sweep(),
+      problem = ros_io::dualReturnCloudToSweep(cloud, core::kAzimuthStepFromCloud, input, binner, pipeline.sweep(),
                                                stats);
       if (problem.empty())
-        ros_io::describeUnbinned(stats, core::kDefaultAzimuthResolutionDeg);
+        ros_io::describeUnbinned(stats);
       break;
     }
     case FuzzMode::hokuyo3d_legacy:

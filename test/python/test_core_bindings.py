@@ -58,7 +58,7 @@ def test_params_have_the_ros_names_and_defaults():
     assert {k: getattr(p, k) for k in defaults} == defaults
     fields = [f.name for f in core.dataclasses.fields(core.Params)]
     assert fields == [name for name, _, _, _ in core.PARAMETERS] + ['azimuth_resolution_deg']
-    assert p.azimuth_resolution_deg == 360.0 / 2048
+    assert p.azimuth_resolution_deg == 0.0  # not given: worked out from each cloud
 
 
 def test_params_from_yaml_and_paper_names():
@@ -206,6 +206,22 @@ def test_the_mirror_is_found_and_its_phantoms_back_projected(mirror_result, mirr
     assert len(phantoms) > 100
     assert np.all(xyz(phantoms) @ mirror['plane'][:3] + mirror['plane'][3] > 0)
     assert r.stats['error_surface_points'] > 0
+
+
+def test_an_implausible_removal_is_named_in_the_warnings(mirror_sweep):
+    s = mirror_sweep
+    # 50 neighbours within 1 cm exist nowhere in a rotating scanner's sweep: the filter deletes
+    # nearly everything, and says so, naming the parameters and the share.
+    tight = core.Pipeline(outlierFilter_searchRadius=0.01, outlierFilter_minNeighbors=50)
+    r = tight.filter(xyz(s.echo1), xyz(s.echo2))
+    assert r.warnings and r.warnings == r.stats['warnings']
+    assert 'outlierFilter_searchRadius = 0.01 m' in r.warnings[0]
+    assert 'outlierFilter_minNeighbors = 50' in r.warnings[0]
+    share = float(r.warnings[0].split('removed ')[1].split(' %')[0])
+    in_range = 2 * s.echo1.size - r.stats['range_gated_points']
+    assert share > 10.0 and r.stats['outlier_points'] > 0.1 * in_range
+    # The defaults follow the sensor's sampling: nothing worth a word.
+    assert core.Pipeline().filter(xyz(s.echo1), xyz(s.echo2)).warnings == []
 
 
 def test_dual_return_keeps_the_input_order():

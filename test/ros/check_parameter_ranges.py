@@ -29,7 +29,8 @@ BAD_VALUES = {
     'min_measure_distance': (-0.1, 'must be finite and >= 0 m'),
     'max_measure_distance': (0.0, 'must be finite and > 0 m'),
     'outlierFilter_searchRadius': (-0.5, 'must be finite and > 0 m'),
-    'outlierFilter_minNeighbors': (0, 'must be finite and >= 1 points'),
+    # 0 of r, n_inlier and n_object is no error: it leaves them to the sensor (automatic).
+    'outlierFilter_minNeighbors': (-1, 'must be finite and >= 1 points, or 0: automatic'),
     'substract_threshold_distance': (0.0, 'must be finite and > 0 m'),
     'planeDetection_threshold_distance': (-1.0, 'must be finite and > 0 m'),
     'planeDetection_minAmountPoints': (2, 'must be finite and >= 3 points'),

@@ -47,8 +47,9 @@ class StartUpParameters(unittest.TestCase):
         self.assert_refused('crossed_ranges', ['_min_measure_distance:=5.0', '_max_measure_distance:=2.0'],
                             'min_measure_distance (d_min) = 5', 'max_measure_distance (d_max)')
 
-    def test_refuses_zero_neighbours_given_under_the_paper_name(self):
-        self.assert_refused('zero_neighbours', ['_n_inlier:=0'], 'outlierFilter_minNeighbors (n_inlier) = 0')
+    def test_refuses_negative_neighbours_given_under_the_paper_name(self):
+        # 0 is no error: it leaves n_inlier to the sensor (automatic).
+        self.assert_refused('negative_neighbours', ['_n_inlier:=-1'], 'outlierFilter_minNeighbors (n_inlier) = -1')
 
     def test_refuses_a_value_of_the_wrong_type(self):
         self.assert_refused('wrong_type', ['_planeDetection_minAmountPoints:=many'],
@@ -79,9 +80,10 @@ class StartUpParameters(unittest.TestCase):
         listed = help_text.split('--input-mode MODE')[1].split('\n  --input-topic T')[0]
         self.assertEqual(re.findall(r'^ {25}(\w+): ', listed, re.M), modes)
 
-    def test_refuses_a_zero_azimuth_resolution_naming_it_and_the_allowed_range(self):
-        self.assert_refused('zero_azimuth', ['_input_mode:=dual_return', '_azimuth_resolution_deg:=0.0'],
-                            'azimuth_resolution_deg = 0 is out of range', '0.01 .. 10')
+    def test_refuses_a_too_fine_azimuth_resolution_naming_it_and_the_allowed_range(self):
+        # 0 is no error: it works the step out from each cloud.
+        self.assert_refused('fine_azimuth', ['_input_mode:=dual_return', '_azimuth_resolution_deg:=0.001'],
+                            'azimuth_resolution_deg = 0.001 is out of range', '0.01 .. 10')
 
     def test_accepts_paper_names_and_publishes_them_under_the_original_names(self):
         node = start_node('paper_names', '_d_thres:=0.3', '_n_object:=250')

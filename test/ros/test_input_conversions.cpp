@@ -73,9 +73,10 @@ TEST(DualReturnCloud, ReadsEveryIntegerTypeAndTheAlternativeFieldNames)
         const sensor_msgs::PointCloud2 cloud =
             makeCloud({ kX, kY, kZ, { return_name, type }, { ring_name, type } }, values);
         core::DualReturnInput input;
+        core::DualReturnBinner binner;
         core::Sweep sweep;
         core::DualReturnStats stats;
-        ASSERT_EQ(ros_io::dualReturnCloudToSweep(cloud, 1.0, input, sweep, stats), "")
+        ASSERT_EQ(ros_io::dualReturnCloudToSweep(cloud, 1.0, input, binner, sweep, stats), "")
             << return_name << " " << ring_name << " " << int(type);
         EXPECT_EQ(stats.return_base, 0);
         EXPECT_EQ(stats.paired_beams, 1u);
@@ -88,19 +89,20 @@ TEST(DualReturnCloud, MissingOrMistypedFieldsAreNamed)
 {
   const std::vector<std::vector<double>> one = { { 3.0, 0.0, 0.0, 1, 0 } };
   core::DualReturnInput input;
+  core::DualReturnBinner binner;
   core::Sweep sweep;
   core::DualReturnStats stats;
   const FieldSpec ring{ "ring", PointField::UINT16 }, ret{ "return", PointField::UINT8 };
   EXPECT_EQ(ros_io::dualReturnCloudToSweep(makeCloud({ kX, kY, kZ, { "intensity", PointField::FLOAT32 }, ring }, one),
-                                           1.0, input, sweep, stats),
+                                           1.0, input, binner, sweep, stats),
             "has no return-index field (looked for 'return', 'return_type' or 'echo')");
   EXPECT_EQ(ros_io::dualReturnCloudToSweep(makeCloud({ kX, kY, kZ, ret, { "line", PointField::UINT8 } }, one), 1.0,
-                                           input, sweep, stats),
+                                           input, binner, sweep, stats),
             "has no ring field (looked for 'ring' or 'channel')");
   EXPECT_EQ(ros_io::dualReturnCloudToSweep(makeCloud({ kX, kY, kZ, { "return", PointField::FLOAT32 }, ring }, one),
-                                           1.0, input, sweep, stats),
+                                           1.0, input, binner, sweep, stats),
             "field 'return' has datatype 7, expected an integer type (INT8 .. UINT32)");
-  EXPECT_EQ(ros_io::dualReturnCloudToSweep(makeCloud({ kX, kY, ret, ring }, one), 1.0, input, sweep, stats),
+  EXPECT_EQ(ros_io::dualReturnCloudToSweep(makeCloud({ kX, kY, ret, ring }, one), 1.0, input, binner, sweep, stats),
             "has no 'z' field");
 }
 
@@ -109,10 +111,11 @@ TEST(DualReturnCloud, UnbinnedPointsAreDescribedWithTheirReasons)
   core::DualReturnStats stats;
   stats.points = 10;
   stats.no_return = 3;
-  EXPECT_EQ(ros_io::describeUnbinned(stats, 0.2), "");  // non-finite points are normal
+  stats.azimuth_resolution_deg = 0.2;
+  EXPECT_EQ(ros_io::describeUnbinned(stats), "");  // non-finite points are normal
   stats.duplicates = 2;
   stats.return_out_of_range = 1;
-  const std::string text = ros_io::describeUnbinned(stats, 0.2);
+  const std::string text = ros_io::describeUnbinned(stats);
   EXPECT_NE(text.find("6 of 10 points"), std::string::npos) << text;
   EXPECT_NE(text.find("2 sharing a ring and azimuth bin"), std::string::npos) << text;
   EXPECT_NE(text.find("azimuth_resolution_deg = 0.2"), std::string::npos) << text;

@@ -231,7 +231,8 @@ TEST(Parameters, ARefusedReconfigureNamesTheValuesKeptAndOnlyThose)
   refused.planeDetection_minAmountPoints = 2;
   const std::vector<std::string> lines = ros_io::keptValues(kept, refused);
   EXPECT_EQ(lines, (std::vector<std::string>{ "outlierFilter_searchRadius = 0.2 (not -1)",
-                                              "planeDetection_minAmountPoints = 100 (not 2)" }));
+                                              // the default: 0, automatic (follows the sensor)
+                                              "planeDetection_minAmountPoints = 0 (not 2)" }));
   EXPECT_TRUE(ros_io::keptValues(kept, kept).empty());
 }
 

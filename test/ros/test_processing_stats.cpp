@@ -67,6 +67,26 @@ TEST(ProcessingStats, ReportsTimesObjectsAndTotals)
   EXPECT_NE(second.message.find("waiting for input"), std::string::npos);
 }
 
+TEST(ProcessingStats, WarnsWhileAStageRemovesAnImplausibleShare)
+{
+  ros_io::ProcessingStats stats;
+  const std::string text = "the outlier filter removed 74.0 % of the points in range (25160 of 34000) with "
+                           "outlierFilter_searchRadius = 0.1 m, outlierFilter_minNeighbors = 50 points";
+  stats.recordProcessed(0.01, 0, 10);
+  stats.recordImplausibleRemoval(text);
+  stats.recordProcessed(0.01, 0, 10);
+  const Report warned = report(stats);
+  EXPECT_EQ(warned.level, DiagnosticStatus::WARN);
+  EXPECT_NE(warned.message.find("in 1 of 2 sweeps " + text), std::string::npos) << warned.message;
+  EXPECT_EQ(warned.values.at("last implausible removal"), text);
+
+  // The next period without one is OK again; the last one stays on record.
+  stats.recordProcessed(0.01, 0, 10);
+  const Report next = report(stats);
+  EXPECT_EQ(next.level, DiagnosticStatus::OK);
+  EXPECT_EQ(next.values.at("last implausible removal"), text);
+}
+
 TEST(ProcessingStats, WarnsOnSomeDroppedInputsAndErrsWhenAllAre)
 {
   ros_io::ProcessingStats stats;

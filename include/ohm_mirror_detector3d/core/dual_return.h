@@ -14,16 +14,17 @@ namespace ohm_mirror_detector3d
 {
 namespace core
 {
-// 360 / 2048: a 2048-column spinning lidar (Ouster OS at 2048 x 10, the simulator's
-// DualReturnLidar). A bin no wider than the sensor's firing step never receives two
-// firings of one ring; coarser sensors (Velodyne 0.2 deg) merely leave some bins empty.
-constexpr double kDefaultAzimuthResolutionDeg = 360.0 / 2048.0;
+// azimuth_resolution_deg when it is not given: the azimuth step is worked out from each cloud
+// (estimateAzimuthStepDeg). A fixed bin width fits one lidar only: 360 / 2048 puts two of a
+// Velodyne's firings (0.16 deg apart) into some bins and drops one of them.
+constexpr double kAzimuthStepFromCloud = 0.0;
 constexpr double kMinAzimuthResolutionDeg = 0.01;  // 36000 bins
 constexpr double kMaxAzimuthResolutionDeg = 10.0;
 // Rings at or above this are out of range (a corrupt ring value must not size the grid).
 constexpr std::int64_t kMaxRings = 1024;
 
-// Empty when `degrees` is a usable azimuth_resolution_deg, otherwise why not.
+// Empty when `degrees` is a usable azimuth_resolution_deg (kAzimuthStepFromCloud included),
+// otherwise why not.
 std::string validateAzimuthResolution(double degrees);
 
 // Columns of the grid: 360 / degrees rounded to a whole number (the bins then are
@@ -55,13 +56,24 @@ struct DualReturnStats
   std::size_t ring_out_of_range = 0;
   std::size_t return_out_of_range = 0;  // neither the first nor the second return (e.g. a third)
   std::size_t duplicates = 0;       // lost a cell to a point of the same return nearer the bin centre
+  double azimuth_resolution_deg = 0.0;  // the bin width used (360 / cols)
+  bool azimuth_from_cloud = false;      // worked out from the cloud (estimateAzimuthStepDeg)
 
   std::size_t unbinned() const { return no_return + ring_out_of_range + return_out_of_range + duplicates; }
 };
 
+// The lidar's azimuth step [deg] as the cloud shows it: the median gap between the azimuths
+// of neighbouring first returns of a ring (over up to 8 rings spread over those with returns;
+// firings without a return leave wider gaps, which the median ignores while they are fewer
+// than half), rounded to a whole number of steps per turn. 0 when no ring has a handful of
+// first returns.
+double estimateAzimuthStepDeg(const DualReturnInput& input);
+
 // Fills `sweep` from a dual-return cloud:
 // - return base: 0-based (0/1) when some point has return index 0, otherwise 1-based (1/2);
-// - rows = largest in-range ring + 1 (rings 0 .. kMaxRings - 1), cols = azimuthBins();
+// - rows = largest in-range ring + 1 (rings 0 .. kMaxRings - 1), cols =
+//   azimuthBins(azimuth_resolution_deg), or with kAzimuthStepFromCloud the step
+//   estimateAzimuthStepDeg finds (one column when it finds none);
 //   beam = ring * cols + bin, bin = azimuth (atan2(y, x), counter-clockwise from +x) divided
 //   by the bin width, rounded;
 // - echo 0 of a beam is its first return (index 1, or 0), echo 1 the second;
@@ -74,7 +86,28 @@ struct DualReturnStats
 //   claim, a second return that found neither partner nor free bin) go to sweep.unbinned.
 // sweep.input_cells gets the cell (or unbinned index) of every input point, in input order.
 // Its ranges are computed from the sensor origin at zero (the points are in the sensor frame).
+// DualReturnBinner does the same with buffers it keeps from cloud to cloud.
 DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_resolution_deg, Sweep& sweep);
+
+class DualReturnBinner
+{
+public:
+  DualReturnStats bin(const DualReturnInput& input, double azimuth_resolution_deg, Sweep& sweep);
+
+private:
+  enum class Kind : std::uint8_t;
+  struct Claim
+  {
+    std::int64_t cell = -1;
+    int echo = 0;
+    double score = 0.0;
+  };
+  std::vector<Kind> kinds_;
+  std::vector<double> azimuths_;
+  std::vector<std::int32_t> owner_[2];
+  std::vector<Claim> claims_;
+  std::vector<std::size_t> unpaired_;
+};
 
 }  // namespace core
 }  // namespace ohm_mirror_detector3d

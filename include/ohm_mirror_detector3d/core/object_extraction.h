@@ -6,8 +6,10 @@
 
 #include <Eigen/Core>
 
+#include "ohm_mirror_detector3d/core/beam_neighbourhood.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
+#include "ohm_mirror_detector3d/core/sweep_sampling.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -15,9 +17,22 @@ namespace core
 {
 struct ObjectExtractionConfig
 {
-  double plane_threshold;      // d_thres_plane [m]: RANSAC's inlier distance
-  int min_object_points;       // n_object
-  double connection_distance;  // [m] two surface points closer than this are one patch (r)
+  double plane_threshold = 0.05;     // d_thres_plane [m]: RANSAC's inlier distance
+  int min_object_points = 9;         // n_object
+  double connection_distance = 0.1;  // [m] two surface points closer than this are one patch (r)
+  // Patches connected in the sweep's own sampling instead of by connection_distance: two
+  // surface points are connected when their beams are neighbours on the grid and the points
+  // lie within the neighbourhood's limit (BeamNeighbourhood). Planes are then fitted to each
+  // connected group of surface points on its own, and groups that cannot make an object
+  // (too few points, or a line) are not fitted at all.
+  bool follows_sampling = false;
+  BeamNeighbourhoodConfig neighbourhood;
+  // A patch must be at least this many beams across in both directions of the grid (the
+  // median over its points of the shorter of the two runs of patch beams through the point;
+  // on a sweep without a grid: its rectangle this many sample spacings across). A line one or
+  // two beams wide is no surface: mixed pixels along a depth edge, whose footprint straddles
+  // it and returns from both sides, make such lines.
+  int min_beams_across = 3;
 };
 
 // Fits planes to errorSurface points and cuts them into rectangular objects. Owns its
@@ -37,6 +52,13 @@ public:
   // which side is the width), its surface_inliers, type unknown, and an id counting from 0 in
   // the order found. Deterministic: the same sweep gives the same objects. Clears `objects`
   // first.
+  // With follows_sampling (and a grid): first splits the errorSurface points into connected
+  // groups on the grid, then runs the loop above in each group that has at least
+  // min_object_points points and is min_beams_across across, with patches connected on the
+  // grid too. Every patch must be min_beams_across across to become an object.
+  void extract(const Sweep& sweep, const SweepSampling& sampling, const Eigen::Vector3f& sensor_origin,
+               const SweepLabels& labels, std::vector<ReflectiveObject>& objects);
+  // The same with the sampling worked out from the sweep (SamplingEstimator).
   void extract(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                std::vector<ReflectiveObject>& objects);
 

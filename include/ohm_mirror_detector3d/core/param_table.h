@@ -78,10 +78,15 @@ struct ParamInfo
   const char* field;
   double Params::*real_field;
   int Params::*integer_field;
+  // For a pipeline parameter whose default follows the sensor: what it follows when it is not
+  // set (its value is then kAutomatic); "" for the others.
+  const char* automatic;
 
   // name, then symbol, then aliases: every name it is accepted under.
   std::vector<std::string> names() const;
   double value(const Params& params) const;  // pipeline parameters only
+  // Whether `params` leave it to the sensor (an automatic parameter at kAutomatic).
+  bool isAutomatic(const Params& params) const;
 };
 
 // Every parameter, in the order of parameters.def: the pipeline's first.

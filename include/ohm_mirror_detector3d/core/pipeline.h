@@ -1,6 +1,7 @@
 // The pre-filter of one sweep (Algorithm 1 of the paper) in three phases:
-//   detect: range gate, outlier filter, echo comparison, object extraction, the per-point
-//     evidence (reflection_evidence.h), type decision (the objects and why);
+//   detect: the sweep's sampling, range gate, outlier filter, echo comparison, object
+//     extraction, mixed pixels, the per-point evidence (reflection_evidence.h), type decision
+//     (the objects and why);
 //   object stages: an ordered list of optional stages on whole objects (object_stage.h;
 //     none by default);
 //   label: cone labelling, cleaned output with back-projection.
@@ -9,12 +10,14 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
+#include "ohm_mirror_detector3d/core/mixed_pixels.h"
 #include "ohm_mirror_detector3d/core/object_extraction.h"
 #include "ohm_mirror_detector3d/core/object_stage.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
@@ -23,9 +26,11 @@
 #include "ohm_mirror_detector3d/core/range_gate.h"
 #include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
+#include "ohm_mirror_detector3d/core/removal_report.h"
 #include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 #include "ohm_mirror_detector3d/core/sweep_context.h"
+#include "ohm_mirror_detector3d/core/sweep_sampling.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -35,10 +40,11 @@ namespace core
 // did not run (no object candidates) stay 0. For profiling; costs a few clock reads per sweep.
 struct StageTimes
 {
+  double sampling = 0.0;            // working out the sweep's sampling
   double range_gate = 0.0;
   double outlier_filter = 0.0;      // both passes
   double echo_comparison = 0.0;
-  double object_extraction = 0.0;
+  double object_extraction = 0.0;  // mixed pixels included
   double type_analysis = 0.0;
   double object_stages = 0.0;       // all of them
   double cone_labelling = 0.0;
@@ -47,8 +53,8 @@ struct StageTimes
 
   double sumOfStages() const
   {
-    return range_gate + outlier_filter + echo_comparison + object_extraction + type_analysis + object_stages +
-           cone_labelling + cleaned_output;
+    return sampling + range_gate + outlier_filter + echo_comparison + object_extraction + type_analysis +
+           object_stages + cone_labelling + cleaned_output;
   }
 };
 
@@ -58,9 +64,15 @@ struct PipelineResult
   ObjectAssignment assignment;             // object of each surface/behind point
   std::vector<ReflectiveObject> objects;
   std::vector<OutputPoint> cleaned;
+  SweepSampling sampling;                  // the sweep's grid and angular steps, as worked out
   std::size_t range_gated_points = 0;      // labelled nanPoint by the range gate
   std::size_t outlier_points = 0;          // labelled nanPoint by both outlier filter passes
   std::size_t error_surface_points = 0;    // n_affected of the echo comparison
+  // Beams whose errorSurface echo the outlier filter's errorSurface pass in the sweep's
+  // sampling found without support (both echoes unchecked again), and mixed pixels (MixedPixels).
+  std::size_t released_surface_beams = 0;
+  std::size_t mixed_pixel_beams = 0;
+  RemovalCounts removals;                  // for implausibleRemovals (removal_report.h)
   StageTimes times;                        // per-stage wall time of this sweep
 };
 
@@ -80,7 +92,9 @@ public:
 
   // Runs the three phases on the sweep; the sensor origin (the apex of the vision cones)
   // is context.sensorOrigin(), the origin the sweep's ranges were computed from
-  // (Sweep::computeRanges). The result is valid until the next call.
+  // (Sweep::computeRanges). The sweep's sampling is worked out from the sweep itself first
+  // (SamplingEstimator): the stages whose parameters are automatic follow it. The result is
+  // valid until the next call.
   const PipelineResult& process(const Sweep& sweep, const SweepContext& context);
 
 private:
@@ -92,10 +106,12 @@ private:
     OutlierFilter outlier_filter;
     EchoComparison echo_comparison;
     ObjectExtractor object_extractor;
+    MixedPixels mixed_pixels;
     ObjectTypeAnalyzer type_analyzer;
     ConeLabelling cone_labelling;
-    // The object extraction's n_object: with fewer errorSurface points detect stops after the
-    // echo comparison, since they cannot make an object.
+    // The object extraction's n_object: with fewer errorSurface points detect skips the
+    // errorSurface pass and object extraction, since they cannot make an object (mixed pixels
+    // are still looked for among them).
     std::size_t min_object_points;
   };
 
@@ -106,12 +122,15 @@ private:
   void label(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, StageClock& clock);
 
   Params params_;
+  StageConfigs configs_;
   Stages stages_;
   // The per-point evidence of the current sweep: built once per sweep, when the first stage
   // needs it (an object found, or object stages to run).
   const ReflectionEvidence& evidence(const Sweep& sweep, const Eigen::Vector3f& sensor_origin);
   ReflectionEvidence evidence_;
   bool evidence_built_ = false;
+  SamplingEstimator sampling_estimator_;
+  std::vector<std::uint8_t> in_range_;  // per beam, for RemovalCounts (pipeline.cpp)
   std::vector<std::unique_ptr<ObjectStage>> object_stages_;
   PipelineResult result_;
 };

@@ -1,11 +1,15 @@
 // Each stage's own values, taken from the pipeline's parameters. This is the one place where
 // core::Params meets the stages: the stages know only their configs (as KISS-ICP's modules
 // do), and a value that is derived rather than given (a default that follows the sweep's
-// sampling) is resolved here, once, into the configs the stages are built with.
+// sampling) is resolved here, once, into the configs the stages are built with: an automatic
+// parameter (kAutomatic: not set) becomes a neighbourhood in the sweep's own sampling
+// (BeamNeighbourhood: the beams around, a limit that grows with range and the angular step,
+// which each sweep's SweepSampling supplies), a value the user set is used as given.
 #pragma once
 
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
+#include "ohm_mirror_detector3d/core/mixed_pixels.h"
 #include "ohm_mirror_detector3d/core/object_extraction.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
@@ -22,11 +26,24 @@ struct StageConfigs
   OutlierFilterConfig outlier_filter;
   EchoComparisonConfig echo_comparison;
   ObjectExtractionConfig object_extraction;
+  MixedPixelConfig mixed_pixels;
   ObjectTypeConfig object_type;
   ConeLabellingConfig cone_labelling;
 };
 
+// With outlierFilter_searchRadius automatic the outlier filter, its errorSurface pass and the
+// patch connectivity of object extraction use the beams around a point on the sweep's grid
+// (half width 1: the 8 around; with n_inlier set, as many rings of beams as hold n_inlier),
+// step factor kNeighbourStepFactor, noise floor d_thres; with it set, the sphere of radius r.
+// n_inlier automatic is kAutomaticMinNeighbors, n_object automatic kAutomaticMinObjectPoints;
+// objects are at least kMinBeamsAcross beams across while r is automatic.
 StageConfigs stageConfigs(const Params& params);
+
+constexpr double kNeighbourStepFactor = 3.0;
+constexpr int kAutomaticMinNeighbors = 1;
+// 3 x 3 beams, the smallest patch that is kMinBeamsAcross across both ways.
+constexpr int kAutomaticMinObjectPoints = 9;
+constexpr int kMinBeamsAcross = 3;
 
 }  // namespace core
 }  // namespace ohm_mirror_detector3d

@@ -18,7 +18,7 @@ namespace ros_io
 extern const char* const kReturnFieldNames[3];  // return, return_type, echo
 extern const char* const kRingFieldNames[2];    // ring, channel
 
-// Reads `azimuth_resolution_deg` (default core::kDefaultAzimuthResolutionDeg); appends a
+// Reads `azimuth_resolution_deg` (default core::kAzimuthStepFromCloud); appends a
 // message to `errors` when it has the wrong type or is out of range. The nodelet and
 // prefilter_bag both read it here.
 double readAzimuthResolution(const ParamSource& source, std::vector<std::string>& errors);
@@ -28,15 +28,16 @@ double readAzimuthResolution(const ParamSource& source, std::vector<std::string>
 // success, otherwise what is wrong, naming the field.
 std::string readDualReturnCloud(const sensor_msgs::PointCloud2& cloud, core::DualReturnInput& input);
 
-// Fills `sweep` from a dual-return cloud (see core::binDualReturns). `input` is a buffer
-// reused from call to call. Returns an empty string on success, otherwise the problem.
+// Fills `sweep` from a dual-return cloud (see core::binDualReturns). `input` and `binner` are
+// buffers reused from call to call. Returns an empty string on success, otherwise the problem.
 std::string dualReturnCloudToSweep(const sensor_msgs::PointCloud2& cloud, double azimuth_resolution_deg,
-                                   core::DualReturnInput& input, core::Sweep& sweep, core::DualReturnStats& stats);
+                                   core::DualReturnInput& input, core::DualReturnBinner& binner, core::Sweep& sweep,
+                                   core::DualReturnStats& stats);
 
 // A sentence about the points that binning could not place (rings or return indices out of
 // range, points sharing a cell), or an empty string when there are none worth a warning
 // (non-finite points are normal, REP-117).
-std::string describeUnbinned(const core::DualReturnStats& stats, double azimuth_resolution_deg);
+std::string describeUnbinned(const core::DualReturnStats& stats);
 
 }  // namespace ros_io
 }  // namespace ohm_mirror_detector3d

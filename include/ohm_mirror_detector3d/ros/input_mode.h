@@ -45,8 +45,8 @@ struct InputOptions
   std::string echo2_topic = "/echo2";
   // two_topics: 0 pairs clouds with equal stamps; > 0 those at most this many seconds apart.
   double approximate_sync = 0.0;
-  double azimuth_resolution_deg = core::kDefaultAzimuthResolutionDeg;  // dual_return
-  MultiEchoScanOptions scan_options;                                   // multi_echo_scan
+  double azimuth_resolution_deg = core::kAzimuthStepFromCloud;  // dual_return
+  MultiEchoScanOptions scan_options;                             // multi_echo_scan
   // The scanner's tf frame when the clouds come in another frame; empty: the clouds' own frame.
   std::string sensor_frame;
   // Prefixes the log messages the modes write themselves (multi_echo_scan's tf waits).

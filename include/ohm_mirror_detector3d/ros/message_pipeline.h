@@ -41,6 +41,7 @@ public:
 
   // Same check; on failure the previous parameters stay in force.
   void setParams(const core::Params& params) { pipeline_.setParams(params); }
+  const core::Params& params() const { return pipeline_.params(); }
 
   // The sweep process() runs on: the front end swaps each converted sweep into it (or fills it);
   // reused from message to message.
