@@ -177,8 +177,6 @@ namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
-namespace
-{
 geometry_msgs::Point toPoint(const Eigen::Vector3f& p)
 {
   geometry_msgs::Point point;
@@ -187,7 +185,6 @@ geometry_msgs::Point toPoint(const Eigen::Vector3f& p)
   point.z = p.z();
   return point;
 }
-}  // namespace
 
 std_msgs::ColorRGBA objectColour(core::ObjectType type)
 {

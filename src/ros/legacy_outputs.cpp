@@ -31,15 +31,6 @@ bool selects(LegacyContent content, Label label)
       return false;
   }
 }
-
-geometry_msgs::Point pointOf(const Eigen::Vector3f& p)
-{
-  geometry_msgs::Point point;
-  point.x = p.x();
-  point.y = p.y();
-  point.z = p.z();
-  return point;
-}
 }  // namespace
 
 const std::vector<LegacyOutput>& legacyOutputs()
@@ -109,8 +100,8 @@ void toLegacyMarker(const std_msgs::Header& header, const std::vector<core::Refl
     const std_msgs::ColorRGBA colour = objectColour(object.type);
     for (std::size_t c = 0; c < 4; ++c)
     {
-      marker.points.push_back(pointOf(corners[c]));
-      marker.points.push_back(pointOf(corners[(c + 1) % 4]));
+      marker.points.push_back(toPoint(corners[c]));
+      marker.points.push_back(toPoint(corners[(c + 1) % 4]));
       marker.colors.push_back(colour);
       marker.colors.push_back(colour);
     }

@@ -1,6 +1,7 @@
 // Conversions between ROS messages and the core's plain types.
 #pragma once
 
+#include <geometry_msgs/Point.h>
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/ColorRGBA.h>
@@ -59,6 +60,9 @@ void toCleanedCloud(const std_msgs::Header& header, const std::vector<core::Outp
 
 void toObjectArray(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
                    ReflectiveObjectArray& array);
+
+// A corner or centre as a message point (the markers and the objects' corners).
+geometry_msgs::Point toPoint(const Eigen::Vector3f& p);
 
 // The colour of an object of `type` in rviz: mirror blue, glass turquoise, unknown yellow.
 std_msgs::ColorRGBA objectColour(core::ObjectType type);
