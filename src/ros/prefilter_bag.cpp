@@ -188,9 +188,11 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
       throw UsageError(e.what());
     }
     options.params = ros_io::readParams(*file, errors);
-    legacy_mappings = ros_io::mapLegacyValues(*file, options.params);
     const std::vector<std::string> range_errors = options.params.validate();
     errors.insert(errors.end(), range_errors.begin(), range_errors.end());
+    // Values that are refused are refused as given, not mapped.
+    if (errors.empty())
+      legacy_mappings = ros_io::mapLegacyValues(*file, options.params);
     if (file->has("input_mode") && !file->get("input_mode", file_input_mode))
       errors.push_back("parameter " + file->describe("input_mode") + " has the wrong type: expected a string");
   }

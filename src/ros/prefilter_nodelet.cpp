@@ -74,9 +74,11 @@ void PreFilterNodelet::onInit()
 
   std::vector<std::string> errors;
   core::Params params = ros_io::readParams(source, errors);
-  const std::vector<std::string> legacy_mappings = ros_io::mapLegacyValues(source, params);
   const std::vector<std::string> range_errors = params.validate();
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
+  // Values that are refused are refused as given, not mapped.
+  const std::vector<std::string> legacy_mappings =
+      errors.empty() ? ros_io::mapLegacyValues(source, params) : std::vector<std::string>();
   const ros_io::InputMode* mode = &ros_io::runTimeInputMode();
   std::string input_mode;
   if (source.has("input_mode") && !source.get("input_mode", input_mode))

@@ -12,7 +12,7 @@ namespace ohm_mirror_detector3d
 {
 namespace ros_io
 {
-// Changes `params`, as readParams read them from `source`, where a value was given under a legacy
+// Changes `params`, as readParams read them from `source` and Params::validate() passed them, where a value was given under a legacy
 // name alone (no other name of the same parameter is set: a value set under its new name keeps its
 // meaning):
 // - outlierFilter_minNeighbors above 1 with outlierFilter_searchRadius set: a density the original
