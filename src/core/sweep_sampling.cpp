@@ -113,6 +113,18 @@ void SamplingEstimator::estimateGrid(std::size_t rows, std::size_t cols, bool fo
         angles_.push_back(angleBetween(first, last));
     }
   s.wraps = angles_.size() >= 3 && median(angles_) <= kMaxWrapStepRatio * s.col_step;
+  // The first and the last row, one of them reversed: a 2D scanner turned half a rotation looks
+  // along its first scan line again at its end, from the other side.
+  angles_.clear();
+  if (rows >= 3)
+    for (std::size_t c = 0; c < cols; ++c)
+    {
+      const Eigen::Vector3f first = direction(c);
+      const Eigen::Vector3f last = direction((rows - 1) * cols + cols - 1 - c);
+      if (first.allFinite() && last.allFinite())
+        angles_.push_back(angleBetween(first, last));
+    }
+  s.flips_at_seam = angles_.size() >= 3 && median(angles_) <= kMaxWrapStepRatio * s.row_step;
 }
 
 bool SamplingEstimator::foldAtPeriod(std::size_t beams)

@@ -12,6 +12,7 @@
 
 #include "ohm_mirror_detector3d/ros/bag_processor.h"
 #include "ohm_mirror_detector3d/ros/input_mode.h"
+#include "ohm_mirror_detector3d/ros/legacy_values.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 #include "ohm_mirror_detector3d/ros/yaml_params.h"
 
@@ -175,6 +176,7 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
   const std::string params_path = given.count("--params") > 0 ? given["--params"] : "";
   std::vector<std::string> errors;
   std::string file_input_mode;
+  std::vector<std::string> legacy_mappings;
   if (!params_path.empty())
   {
     try
@@ -188,6 +190,9 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     options.params = ros_io::readParams(*file, errors);
     const std::vector<std::string> range_errors = options.params.validate();
     errors.insert(errors.end(), range_errors.begin(), range_errors.end());
+    // Values that are refused are refused as given, not mapped.
+    if (errors.empty())
+      legacy_mappings = ros_io::mapLegacyValues(*file, options.params);
     if (file->has("input_mode") && !file->get("input_mode", file_input_mode))
       errors.push_back("parameter " + file->describe("input_mode") + " has the wrong type: expected a string");
   }
@@ -207,6 +212,8 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
   if (!errors.empty())
     throw UsageError("refusing to start, bad parameters" + (file ? " in " + params_path : std::string()) + ":" +
                      joinLines(errors));
+  for (const std::string& mapping : legacy_mappings)
+    std::cerr << "prefilter_bag: " << mapping << "\n";
   if (file)
     for (const std::string& warning : ros_io::unusedParameterWarnings(
              file->unusedNames(), *file, "prefilter_bag in input mode " + modeNames(options.input_mode)))

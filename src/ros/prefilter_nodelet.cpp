@@ -11,6 +11,7 @@
 
 #include "ohm_mirror_detector3d/core/removal_report.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
+#include "ohm_mirror_detector3d/ros/legacy_values.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
@@ -72,9 +73,12 @@ void PreFilterNodelet::onInit()
   const ros_io::RecordingParamSource source(server);
 
   std::vector<std::string> errors;
-  const core::Params params = ros_io::readParams(source, errors);
+  core::Params params = ros_io::readParams(source, errors);
   const std::vector<std::string> range_errors = params.validate();
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
+  // Values that are refused are refused as given, not mapped.
+  const std::vector<std::string> legacy_mappings =
+      errors.empty() ? ros_io::mapLegacyValues(source, params) : std::vector<std::string>();
   const ros_io::InputMode* mode = &ros_io::runTimeInputMode();
   std::string input_mode;
   if (source.has("input_mode") && !source.get("input_mode", input_mode))
@@ -105,6 +109,8 @@ void PreFilterNodelet::onInit()
     throw std::invalid_argument(message);
   };
   refuseIfBad();
+  for (const std::string& mapping : legacy_mappings)
+    NODELET_INFO_STREAM(getName() << ": " << mapping);
 
   // Everything a sweep passes through is ready before the outputs are advertised: a subscriber
   // that connects at once subscribes the input (updateSubscription).

@@ -18,6 +18,7 @@
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/ros/dual_return.h"
+#include "ohm_mirror_detector3d/ros/legacy_values.h"
 #include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
@@ -234,6 +235,89 @@ TEST(Parameters, ARefusedReconfigureNamesTheValuesKeptAndOnlyThose)
                                               // the default: 0, automatic (follows the sensor)
                                               "planeDetection_minAmountPoints = 0 (not 2)" }));
   EXPECT_TRUE(ros_io::keptValues(kept, kept).empty());
+}
+
+// The pipeline parameters `source` gives, with the legacy values mapped, and the log lines.
+core::Params readMapped(const MapParams& source, std::vector<std::string>& lines)
+{
+  std::vector<std::string> errors;
+  core::Params params = ros_io::readParams(source, errors);
+  EXPECT_TRUE(errors.empty());
+  lines = ros_io::mapLegacyValues(source, params);
+  return params;
+}
+
+MapParams originalLaunchValues()
+{
+  MapParams source;
+  source.numbers = { { "outlierFilter_minNeighbors", 50 },      { "outlierFilter_searchRadius", 0.1 },
+                     { "substract_threshold_distance", 0.05 }, { "max_Dist_ICP", 0.01 },
+                     { "fitness_Fct_ICP", 0.005 },             { "planeDetection_minAmountPoints", 100 } };
+  source.integers = { "outlierFilter_minNeighbors", "planeDetection_minAmountPoints" };
+  return source;
+}
+
+TEST(LegacyValues, TheOriginalsValuesUnderItsNamesAreMappedToWhatTheyMeantOneLineEach)
+{
+  std::vector<std::string> lines;
+  const core::Params params = readMapped(originalLaunchValues(), lines);
+  EXPECT_EQ(params.outlier_min_neighbors, 0);  // automatic: the sweep's own beam grid
+  EXPECT_EQ(params.outlier_radius, core::kAutomatic);
+  EXPECT_DOUBLE_EQ(params.icp_max_distance, 0.1);  // at least the default landing tolerance
+  EXPECT_EQ(params.min_object_points, 100);          // means here what it meant there
+  EXPECT_DOUBLE_EQ(params.icp_fitness_threshold, 0.005);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_NE(lines[0].find("outlierFilter_minNeighbors 50 within outlierFilter_searchRadius 0.1 m"), std::string::npos)
+      << lines[0];
+  EXPECT_NE(lines[0].find("read as automatic"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[1].find("max_Dist_ICP 0.01 m"), std::string::npos) << lines[1];
+  EXPECT_NE(lines[1].find("the default 0.1 m"), std::string::npos) << lines[1];
+}
+
+TEST(LegacyValues, TheNewNamesAreHonouredAsSet)
+{
+  MapParams source;
+  source.numbers = { { "n_inlier", 50 }, { "r", 0.1 }, { "icp_max_distance", 0.01 } };
+  source.integers = { "n_inlier" };
+  std::vector<std::string> lines;
+  const core::Params params = readMapped(source, lines);
+  EXPECT_EQ(params.outlier_min_neighbors, 50);
+  EXPECT_DOUBLE_EQ(params.outlier_radius, 0.1);
+  EXPECT_DOUBLE_EQ(params.icp_max_distance, 0.01);
+  EXPECT_TRUE(lines.empty());
+
+  // A legacy name given beside its new name with the same value: the new name's meaning.
+  MapParams both = originalLaunchValues();
+  both.numbers["icp_max_distance"] = 0.01;
+  both.numbers["n_inlier"] = 50;
+  both.integers.insert("n_inlier");
+  const core::Params kept = readMapped(both, lines);
+  EXPECT_DOUBLE_EQ(kept.icp_max_distance, 0.01);
+  EXPECT_EQ(kept.outlier_min_neighbors, 50);
+  EXPECT_DOUBLE_EQ(kept.outlier_radius, 0.1);
+  EXPECT_TRUE(lines.empty());
+}
+
+TEST(LegacyValues, ValuesThatMeanTheSameHereAreTakenAsTheyAre)
+{
+  // One neighbour within a radius is no density (the tests' "filter nothing": 1 within 100 m);
+  // a tolerance of at least d_thres is one here too; the radius alone is a sphere as set.
+  MapParams source;
+  source.numbers = { { "outlierFilter_minNeighbors", 1 }, { "outlierFilter_searchRadius", 100.0 },
+                     { "max_Dist_ICP", 0.1 } };
+  source.integers = { "outlierFilter_minNeighbors" };
+  std::vector<std::string> lines;
+  core::Params params = readMapped(source, lines);
+  EXPECT_EQ(params.outlier_min_neighbors, 1);
+  EXPECT_DOUBLE_EQ(params.outlier_radius, 100.0);
+  EXPECT_DOUBLE_EQ(params.icp_max_distance, 0.1);
+  EXPECT_TRUE(lines.empty());
+
+  MapParams radius_only;
+  radius_only.numbers = { { "outlierFilter_searchRadius", 0.1 } };
+  params = readMapped(radius_only, lines);
+  EXPECT_DOUBLE_EQ(params.outlier_radius, 0.1);
+  EXPECT_TRUE(lines.empty());
 }
 
 }  // namespace

@@ -33,6 +33,7 @@ public:
     : rows_(sampling.rows)
     , cols_(sampling.cols)
     , wraps_(sampling.wraps)
+    , flips_at_seam_(sampling.flips_at_seam)
     , half_width_(config.half_width < 0 ? 0 : static_cast<std::size_t>(config.half_width))
     , noise_floor_(static_cast<float>(config.noise_floor))
   {
@@ -74,10 +75,16 @@ public:
     for (std::size_t k = 0; k < offsets_.size(); ++k)
     {
       const Offset& o = offsets_[k];
-      const std::int64_t r = static_cast<std::int64_t>(row) + o.dr;
+      std::int64_t r = static_cast<std::int64_t>(row) + o.dr;
       std::int64_t c = static_cast<std::int64_t>(col) + o.dc;
       if (r < 0 || r >= static_cast<std::int64_t>(rows_))
-        continue;
+      {
+        if (!flips_at_seam_ || static_cast<std::size_t>(o.dr < 0 ? -o.dr : o.dr) >= rows_)
+          continue;
+        // Across the seam of a half rotation: the other end's row, its columns reversed.
+        r = r < 0 ? r + static_cast<std::int64_t>(rows_) : r - static_cast<std::int64_t>(rows_);
+        c = static_cast<std::int64_t>(cols_) - 1 - c;
+      }
       if (c < 0 || c >= static_cast<std::int64_t>(cols_))
       {
         if (!wraps_)
@@ -110,6 +117,7 @@ private:
   std::size_t rows_;
   std::size_t cols_;
   bool wraps_;
+  bool flips_at_seam_;
   std::size_t half_width_;
   float noise_floor_;
   std::vector<Offset> offsets_;

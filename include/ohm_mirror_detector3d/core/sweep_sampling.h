@@ -37,6 +37,9 @@ struct SweepSampling
   bool folded = false;
   // Column cols - 1 neighbours column 0 (a spinning lidar's full turn).
   bool wraps = false;
+  // Row rows - 1 neighbours row 0 with the columns reversed (a 2D scanner turned half a
+  // rotation: its last scan line sees along its first one, from the other side).
+  bool flips_at_seam = false;
   // Median angle [rad] between a beam and the beam in the next row (same column), and in the
   // next column (same row). On a grid whose rows are too few to tell (one scan line), the row
   // step is taken equal to the column step; on an unordered sweep both are the median angle
