@@ -257,25 +257,21 @@ const SweepSampling& SamplingEstimator::estimate(const Sweep& sweep, const Eigen
   }
   if (foldAtPeriod(beams))
     return sampling_;
+  // One row of `beams`, the same angular step along and across it.
+  auto oneRow = [&](SweepSampling::Layout layout, double step) -> const SweepSampling& {
+    sampling_.layout = layout;
+    sampling_.rows = 1;
+    sampling_.cols = beams;
+    sampling_.row_step = step;
+    sampling_.col_step = step;
+    return sampling_;
+  };
   const double consecutive = medianAngle(1, [](std::size_t) { return true; });
   const double nearest = nearestNeighbourAngle();
   if (consecutive > 0.0 && (nearest <= 0.0 || consecutive <= kMaxLineStepRatio * nearest))
-  {
-    sampling_.layout = SweepSampling::Layout::grid;
-    sampling_.rows = 1;
-    sampling_.cols = beams;
-    sampling_.row_step = consecutive;
-    sampling_.col_step = consecutive;
-    return sampling_;
-  }
+    return oneRow(SweepSampling::Layout::grid, consecutive);
   if (nearest > 0.0)
-  {
-    sampling_.layout = SweepSampling::Layout::unordered;
-    sampling_.rows = 1;
-    sampling_.cols = beams;
-    sampling_.row_step = nearest;
-    sampling_.col_step = nearest;
-  }
+    return oneRow(SweepSampling::Layout::unordered, nearest);
   return sampling_;
 }
 
