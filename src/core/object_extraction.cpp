@@ -474,6 +474,7 @@ double ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_nor
   object.height_axis = height_axis.cast<float>();
   object.width = static_cast<float>(a_is_width ? rectangle.length : rectangle.breadth);
   object.height = static_cast<float>(a_is_width ? rectangle.breadth : rectangle.length);
+  object.footprint = static_cast<float>(footprint);
   object.surface_inliers.resize(end - begin);
   for (std::uint32_t m = begin; m < end; ++m)
     object.surface_inliers[m - begin] = refs[static_cast<std::size_t>(inliers[patch_members[m]])];
