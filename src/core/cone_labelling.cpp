@@ -86,8 +86,8 @@ public:
     reach_ = std::min(100.0 * origin_side, 100.0 * scale);
     if (!usable_)
       return;
-    const double half_w = 0.5 * object.width + margin + grow;
-    const double half_h = 0.5 * object.height + margin + grow;
+    const double half_w = 0.5 * (object.width + object.footprint) + margin + grow;
+    const double half_h = 0.5 * (object.height + object.footprint) + margin + grow;
     const std::array<Eigen::Vector3d, 4> corners = { centre - half_w * w - half_h * h, centre + half_w * w - half_h * h,
                                                      centre + half_w * w + half_h * h,
                                                      centre - half_w * w + half_h * h };

@@ -37,6 +37,13 @@ constexpr float kMaxStep = 10.0f * static_cast<float>(M_PI) / 180.0f;
 
 constexpr std::size_t kMaxCandidates = 128;
 
+// A return x lies in the window around a unit direction d when its offset (x.e1, x.e2) / depth
+// (depth = x.d) is within radius r: |x|^2 - depth^2 <= r^2 depth^2. Returns with |x|^2 above
+// depth^2 (1 + r^2 (1 + kWindowSlack)) are skipped before that exact test: the slack (1 % of
+// r^2) is far above the float rounding of either side (1e-7 relative to |x|^2, r^2 >= 1e-10),
+// so no return the exact test keeps is skipped.
+constexpr float kWindowSlack = 0.01f;
+
 // A surface seen at up to 80 degrees from its normal changes its range by up to tan(80 deg)
 // times range times angle: returns that differ by more than that lie on different surfaces.
 constexpr float kMaxGrazingSlope = 5.67f;
@@ -228,10 +235,18 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   options.lookup = true;
   options.dense_cells = 6 * static_cast<std::size_t>(cells_per_side_) * cells_per_side_;
   index_.build(DirectionCells{ inverse_cell_, cells_per_side_ }, options);
+  const float* sorted_x = index_.sortedX();
+  const float* sorted_y = index_.sortedY();
+  const float* sorted_z = index_.sortedZ();
+  squared_ranges_.resize(count);
+  for (std::size_t j = 0; j < count; ++j)
+    squared_ranges_[j] = sorted_x[j] * sorted_x[j] + sorted_y[j] * sorted_y[j] + sorted_z[j] * sorted_z[j];
+  window_cosine_bound_ = 1.0f + radius_ * radius_ * (1.0f + kWindowSlack);
 }
 
 template <typename Visit>
-void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, Visit visit) const
+void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, const Eigen::Vector3f& unit,
+                                     Visit visit) const
 {
   const DirectionCells cells{ inverse_cell_, cells_per_side_ };
   const float* xs = index_.sortedX();
@@ -257,11 +272,13 @@ void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, Visit vis
     const std::uint32_t v_low = cells.axisCell(v - half_v), v_high = cells.axisCell(v + half_v);
     for (std::uint32_t cu = u_low; cu <= u_high; ++cu)
     {
+      // The cells v_low .. v_high of this row are consecutive keys: one range of points.
       const std::uint64_t row = (static_cast<std::uint64_t>(face) * cells_per_side_ + cu) * cells_per_side_;
-      for (std::uint32_t cv = v_low; cv <= v_high; ++cv)
+      const SpatialIndex::Range points = index_.cellRunPoints(row + v_low, row + v_high);
+      for (std::uint32_t j = points.begin; j < points.end; ++j)
       {
-        const SpatialIndex::Range points = index_.cellPoints(row + cv);
-        for (std::uint32_t j = points.begin; j < points.end; ++j)
+        const float depth = xs[j] * unit.x() + ys[j] * unit.y() + zs[j] * unit.z();
+        if (depth > 0.0f && squared_ranges_[j] <= depth * depth * window_cosine_bound_)
           visit(Eigen::Vector3f(xs[j], ys[j], zs[j]));
       }
     }
@@ -300,7 +317,7 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
   std::array<int, 4> nearest = { -1, -1, -1, -1 };
   std::array<float, 4> nearest_offset = { 0.0f, 0.0f, 0.0f, 0.0f };
   const float radius_squared = radius_ * radius_;
-  forEachNear(q, [&](const Eigen::Vector3f& x) {
+  forEachNear(q, along, [&](const Eigen::Vector3f& x) {
     const float depth = x.dot(along);
     if (!(depth > 0.0f) || count == kMaxCandidates)
       return;

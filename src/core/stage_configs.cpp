@@ -57,6 +57,7 @@ StageConfigs stageConfigs(const Params& params)
   configs.object_extraction.neighbourhood = around;
   // The original's metric r, set, is honoured as the original used it: no test in beams.
   configs.object_extraction.min_beams_across = radius_automatic ? kMinBeamsAcross : 0;
+  configs.object_extraction.footprint_steps = kFootprintSteps;
   configs.mixed_pixels = MixedPixelConfig{ around };
   configs.object_type =
       ObjectTypeConfig{ params.plane_threshold,       params.vision_cone_margin, params.icp_max_distance,

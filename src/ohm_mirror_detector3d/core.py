@@ -9,6 +9,10 @@
 `Params` has the names and defaults of the ROS parameters (the original launch file's names;
 the paper's names such as `d_min` or `r` are accepted by `Params.from_dict` and as keyword
 arguments of `Pipeline`) and is validated by the same C++ code as the nodelet's parameters.
+Values given there under the original's names that meant something else in the original
+(`outlierFilter_minNeighbors` 50 within `outlierFilter_searchRadius` 0.1, `max_Dist_ICP` 0.01)
+are mapped to what they meant, as the node and prefilter_bag map them, each with a
+LegacyValueWarning saying so (README "Replacing the original node").
 
 A `Pipeline` runs exactly the nodelet's code (core::Pipeline): the same input gives the same
 labels, bit for bit. It copies the input once into the core's sweep (which it reuses from call
@@ -28,6 +32,7 @@ with the fields of ReflectiveObject.msg (plus type_name and centre).
 """
 import dataclasses
 import re
+import warnings
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional
 
@@ -63,6 +68,11 @@ PARAMETERS = tuple((row['name'], (row['names'][1:] or [None])[0], row['field'], 
 ROS_ONLY_KEYS = frozenset(name for row in PARAMETER_TABLE if row not in _ROWS for name in row['names'])
 
 _DECIMAL = re.compile(r'^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$')
+
+
+class LegacyValueWarning(UserWarning):
+    """A value given under the original node's name was mapped to what it meant there (the line
+    the node and prefilter_bag log at start-up)."""
 
 
 class _ParamsMethods:
@@ -120,6 +130,7 @@ class _ParamsMethods:
         and for two names of one parameter that disagree, TypeError for values of the wrong type."""
         params = dataclasses.replace(base) if base is not None else cls()
         values = dict(values)
+        given_names = list(values)
         errors, type_errors = [], []
         for row in _ROWS:
             kind = _KINDS[row['type']]
@@ -150,7 +161,20 @@ class _ParamsMethods:
             raise TypeError('invalid pre-filter parameters:\n  ' + '\n  '.join(type_errors + errors))
         if errors:
             raise ValueError('invalid pre-filter parameters:\n  ' + '\n  '.join(errors))
-        return params
+        return params._with_legacy_values_mapped(given_names, source)
+
+    def _with_legacy_values_mapped(self, given_names, source):
+        """The original's values given under its names alone mapped to what they meant there
+        (core/legacy_values.h), a LegacyValueWarning each. Refused values stay as given (check()
+        names them), as the node maps only values it accepted."""
+        if self.validate():
+            return self
+        mapped, lines = _core.map_legacy_values(self.to_core(), given_names)
+        for line in lines:
+            warnings.warn('%s (in %s)' % (line, source), LegacyValueWarning, stacklevel=4)
+        for ros, _, core_name, kind in PARAMETERS:
+            setattr(self, ros, kind(getattr(mapped, core_name)))
+        return self
 
     @classmethod
     def from_yaml(cls, path: str) -> 'Params':

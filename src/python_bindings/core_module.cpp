@@ -13,6 +13,7 @@
 #include <pybind11/stl.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -25,6 +26,7 @@
 
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/labels.h"
+#include "ohm_mirror_detector3d/core/legacy_values.h"
 #include "ohm_mirror_detector3d/core/output_records.h"
 #include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/core/params.h"
@@ -471,6 +473,17 @@ PYBIND11_MODULE(_core, m)
   m.def("parameter_table", &parameterTable, "Every parameter (core/param_table.h) as a dict, in the table's order.");
   m.def("check_start_up", &checkStartUp, py::arg("name"), py::arg("value"),
         "Empty when value is usable for the start-up parameter, otherwise why not (its core check).");
+  m.def(
+      "map_legacy_values",
+      [](core::Params params, const std::vector<std::string>& given) {
+        const std::vector<std::string> lines = core::mapLegacyValues(
+            [&](const std::string& name) { return std::find(given.begin(), given.end(), name) != given.end(); },
+            params);
+        return py::make_tuple(params, lines);
+      },
+      py::arg("params"), py::arg("given_names"),
+      "(params, lines): the original's values given under its names alone mapped to what they meant, "
+      "one line per mapped parameter (core/legacy_values.h).");
 
   py::class_<PythonPipeline>(m, "Pipeline")
       .def(py::init<const core::Params&>(), py::arg("params"))

@@ -12,7 +12,7 @@
 
 #include "ohm_mirror_detector3d/ros/bag_processor.h"
 #include "ohm_mirror_detector3d/ros/input_mode.h"
-#include "ohm_mirror_detector3d/ros/legacy_values.h"
+#include "ohm_mirror_detector3d/core/legacy_values.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 #include "ohm_mirror_detector3d/ros/yaml_params.h"
 
@@ -192,7 +192,8 @@ bool parseCommandLine(int argc, char** argv, ros_io::BagToolOptions& options)
     errors.insert(errors.end(), range_errors.begin(), range_errors.end());
     // Values that are refused are refused as given, not mapped.
     if (errors.empty())
-      legacy_mappings = ros_io::mapLegacyValues(*file, options.params);
+      legacy_mappings =
+          core::mapLegacyValues([&](const std::string& name) { return file->has(name); }, options.params);
     if (file->has("input_mode") && !file->get("input_mode", file_input_mode))
       errors.push_back("parameter " + file->describe("input_mode") + " has the wrong type: expected a string");
   }

@@ -11,7 +11,7 @@
 
 #include "ohm_mirror_detector3d/core/removal_report.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
-#include "ohm_mirror_detector3d/ros/legacy_values.h"
+#include "ohm_mirror_detector3d/core/legacy_values.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
 namespace ohm_mirror_detector3d
@@ -78,7 +78,8 @@ void PreFilterNodelet::onInit()
   errors.insert(errors.end(), range_errors.begin(), range_errors.end());
   // Values that are refused are refused as given, not mapped.
   const std::vector<std::string> legacy_mappings =
-      errors.empty() ? ros_io::mapLegacyValues(source, params) : std::vector<std::string>();
+      errors.empty() ? core::mapLegacyValues([&](const std::string& name) { return source.has(name); }, params) :
+                      std::vector<std::string>();
   const ros_io::InputMode* mode = &ros_io::runTimeInputMode();
   std::string input_mode;
   if (source.has("input_mode") && !source.get("input_mode", input_mode))

@@ -40,6 +40,49 @@ TEST(VisionCone, TheMarginGrowsTheRectangle)
   EXPECT_EQ(relationOf(p, 0.0f), ConeRelation::outside);
 }
 
+TEST(VisionCone, HalfTheBeamFootprintGrowsTheRectangleBeforeTheMargin)
+{
+  // Beams whose centre passes up to half a footprint beside the edge still return from the
+  // object: with a 2 cm footprint, the ray crossing the plane at y = 0.305 is in the cone
+  // without any margin, the one at y = 0.315 only with a margin.
+  core::ReflectiveObject object = wallObject(2.0f, 0.6f, 0.4f);
+  object.footprint = 0.02f;
+  auto relation = [&](float y, float margin) {
+    return core::locateInCone(object, Eigen::Vector3f::Zero(), Eigen::Vector3f(4.0f, 2.0f * y, 0.0f), 0.05f, margin)
+        .relation;
+  };
+  EXPECT_EQ(relation(0.305f, 0.0f), ConeRelation::behind);
+  EXPECT_EQ(relation(0.315f, 0.0f), ConeRelation::outside);
+  EXPECT_EQ(relation(0.315f, 0.01f), ConeRelation::behind);
+  object.footprint = 0.0f;
+  EXPECT_EQ(relation(0.305f, 0.0f), ConeRelation::outside);
+}
+
+TEST(ConeLabelling, PointsBesideTheRectangleWithinHalfTheFootprintAreLabelledBehind)
+{
+  // The culling of blocks of beams (ConeBounds) must reach as far as the cone does.
+  core::ReflectiveObject object = wallObject(2.0f, 0.6f, 0.4f);
+  object.type = ObjectType::mirror;
+  object.footprint = 0.04f;
+  // Crosses the plane at y = 0.318, 1.8 cm beside the edge (more than the culling's rounding
+  // slack); every beam of the block the same, so that its box is that point.
+  const Eigen::Vector3f beside(4.0f, 0.636f, 0.0f);
+  const std::vector<test::Beam> beams(64, test::Beam{ beside, beside });
+  const core::Sweep sweep = test::makeSweep(beams);
+  core::SweepLabels labels;
+  labels.reset(sweep.beamCount(), Label::valid);
+  std::vector<core::ReflectiveObject> objects{ object };
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
+  core::ConeLabellingConfig config;
+  config.plane_threshold = 0.05;
+  config.cone_margin = 0.0;
+  core::ObjectAssignment assignment;
+  core::ConeLabelling(config).apply(sweep, Eigen::Vector3f::Zero(), evidence, objects, labels, assignment);
+  EXPECT_EQ(assignment.echoes[0][40], 0);
+  EXPECT_GE(objects[0].behind_points, 1u);
+}
+
 TEST(VisionCone, TheConeIsFromTheSensorOriginNotAlongTheNormal)
 {
   // Behind the plane and beyond the rectangle's edge along the normal, but seen through it.

@@ -109,9 +109,19 @@ core::Params metricParams()
   return params;
 }
 
-std::vector<ReflectiveObject> extract(const Scene& scene, const core::Params& params = metricParams())
+// The lattices of these tests are thin beams (a point where the lattice is, none beside it):
+// the rectangle is grown by the whole spacing unless a test gives its beams a footprint.
+core::ObjectExtractionConfig latticeConfig(const core::Params& params, double footprint_steps = 0.0)
 {
-  core::ObjectExtractor extractor(core::stageConfigs(params).object_extraction);
+  core::ObjectExtractionConfig config = core::stageConfigs(params).object_extraction;
+  config.footprint_steps = footprint_steps;
+  return config;
+}
+
+std::vector<ReflectiveObject> extract(const Scene& scene, const core::Params& params = metricParams(),
+                                      double footprint_steps = 0.0)
+{
+  core::ObjectExtractor extractor(latticeConfig(params, footprint_steps));
   std::vector<ReflectiveObject> objects;
   extractor.extract(scene.sweep(), Vector3f::Zero(), scene.labels(), objects);
   return objects;
@@ -436,7 +446,7 @@ TEST(ObjectExtraction, IsDeterministic)
   const Scene scene = busyScene(11);
   const core::Sweep sweep = scene.sweep();
   const core::SweepLabels labels = scene.labels();
-  const core::ObjectExtractionConfig config = core::stageConfigs(metricParams()).object_extraction;
+  const core::ObjectExtractionConfig config = latticeConfig(metricParams());
   core::ObjectExtractor extractor(config);
   std::vector<ReflectiveObject> first, second, fresh;
   extractor.extract(sweep, Vector3f::Zero(), labels, first);
@@ -457,7 +467,7 @@ TEST(ObjectExtraction, ReusesItsBuffersAcrossSweeps)
   Scene c;                            // smaller than both
   c.add(lattice(wallMirror(), 3.0f * kCm));
 
-  core::ObjectExtractor extractor(core::stageConfigs(metricParams()).object_extraction);
+  core::ObjectExtractor extractor(latticeConfig(metricParams()));
   std::vector<ReflectiveObject> a1, b1, c1, a2;
   extractor.extract(a.sweep(), Vector3f::Zero(), a.labels(), a1);
   extractor.extract(b.sweep(), Vector3f::Zero(), b.labels(), b1);
@@ -564,6 +574,79 @@ TEST(ObjectExtraction, MirrorSampledByAScannerGrid)
   expectRect(objects[0], r, 2.0f * kCm);
   std::printf("[   SIZE   ] scanner grid 0.5 x 0.7 deg at 2 m (%zu points): %.2f x %.2f cm\n", scene.surface.size(),
               100 * objects[0].width, 100 * objects[0].height);
+}
+
+// Beams on a square grid of `step` from the origin, shifted by `phase` steps, whose footprint
+// (full angle `divergence`) returns the wall mirror while any of it is on the mirror, each
+// point on the beam's centre: the beams just beside an edge return from beyond the edge.
+Scene mirrorSeenWithFootprint(float step, float divergence, float phase)
+{
+  const Rect r{ Vector3f(2.0f, 0.0f, 0.0f), -Vector3f::UnitY(), Vector3f::UnitZ(), 0.6f, 0.4f };  // straight ahead
+  Scene scene;
+  const float reach = 0.5f * divergence;
+  for (int i = 0; i * step < 0.5f; ++i)
+    for (int j = 0; j * step < 0.5f; ++j)
+    {
+      const float elevation = -0.25f + (static_cast<float>(i) + phase) * step;
+      const float azimuth = -0.25f + (static_cast<float>(j) + phase) * step;
+      const Vector3f dir(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                         std::sin(elevation));
+      const Vector3f p = dir * (r.centre.x() / dir.x());
+      const float slack = reach * p.norm();
+      if (std::fabs(p.y() - r.centre.y()) <= 0.5f * r.width + slack &&
+          std::fabs(p.z() - r.centre.z()) <= 0.5f * r.height + slack)
+        scene.surface.push_back(p);
+    }
+  return scene;
+}
+
+// Mean width and height [m] over grid phases 0, 1/8, ..., 7/8 of a step (where the samples
+// fall relative to the edges decides the hull of one sweep; the mean shows the bias).
+Eigen::Vector2f meanSize(float step, float divergence, double footprint_steps)
+{
+  Eigen::Vector2f sum = Eigen::Vector2f::Zero();
+  const int phases = 8;
+  for (int k = 0; k < phases; ++k)
+  {
+    const std::vector<ReflectiveObject> objects =
+        extract(mirrorSeenWithFootprint(step, divergence, static_cast<float>(k) / phases), metricParams(),
+                footprint_steps);
+    EXPECT_EQ(objects.size(), 1u) << "phase " << k;
+    if (!objects.empty())
+      sum += Eigen::Vector2f(objects[0].width, objects[0].height);
+  }
+  return sum / static_cast<float>(phases);
+}
+
+TEST(ObjectExtraction, BeamFootprintBeyondTheEdgesIsNotGrownTwice)
+{
+  // A UTM-30LX-EW: 0.25 deg steps, beams of 0.25 deg, at 2 m: 4.4 mm per side beyond the
+  // edges, as much as the spacing (8.7 mm) leaves out. The footprint covers the sampling gap.
+  const float deg = kPi / 180.0f;
+  const Eigen::Vector2f with_footprint = meanSize(0.25f * deg, 0.25f * deg, 1.0);
+  // Height to 5 mm: rows of one elevation curve up towards the mirror's sides (z grows as
+  // 1 / cos(azimuth)), so the corners' samples reach 2 mm higher and lower than mid-width.
+  EXPECT_NEAR(with_footprint.x(), 0.6f, 0.3f * kCm);
+  EXPECT_NEAR(with_footprint.y(), 0.4f, 0.5f * kCm);
+  // Taken for thin beams, the same points make the rectangle about a footprint too large.
+  const Eigen::Vector2f thin = meanSize(0.25f * deg, 0.25f * deg, 0.0);
+  EXPECT_GT(thin.x(), 0.6f + 0.6f * kCm);
+  EXPECT_GT(thin.y(), 0.4f + 0.6f * kCm);
+  std::printf("[   SIZE   ] 0.25 deg beams of 0.25 deg at 2 m, mean over phases: %.2f x %.2f cm (as thin beams "
+              "%.2f x %.2f cm)\n",
+              100 * with_footprint.x(), 100 * with_footprint.y(), 100 * thin.x(), 100 * thin.y());
+}
+
+TEST(ObjectExtraction, SamplingGapWiderThanTheFootprintIsGrownByTheRest)
+{
+  // 0.5 deg steps with beams of 0.25 deg (footprint_steps 0.5): the hull misses the part of
+  // the spacing the footprint does not cover, and gets it back.
+  const float deg = kPi / 180.0f;
+  const Eigen::Vector2f size = meanSize(0.5f * deg, 0.25f * deg, 0.5);
+  EXPECT_NEAR(size.x(), 0.6f, 0.3f * kCm);
+  EXPECT_NEAR(size.y(), 0.4f, 0.5f * kCm);  // see above
+  std::printf("[   SIZE   ] 0.5 deg beams of 0.25 deg at 2 m, mean over phases: %.2f x %.2f cm\n", 100 * size.x(),
+              100 * size.y());
 }
 
 }  // namespace

@@ -69,6 +69,37 @@ def test_params_from_yaml_and_paper_names():
     assert core.Params.from_dict({'fitness_Fct_ICP': '5e-3'}).fitness_Fct_ICP == 0.005  # PyYAML's plain 5e-3
 
 
+# The original launch file's numbers that matter here (test/legacy_launch/ohm_mirror_detector3D.launch).
+ORIGINAL_VALUES = {'outlierFilter_minNeighbors': 50, 'outlierFilter_searchRadius': 0.1, 'max_Dist_ICP': 0.01,
+                   'fitness_Fct_ICP': 0.005, 'planeDetection_minAmountPoints': 100}
+
+
+def test_the_originals_values_under_its_names_are_mapped_as_the_node_maps_them():
+    with pytest.warns(core.LegacyValueWarning) as caught:
+        p = core.Params.from_dict(ORIGINAL_VALUES, source='original.yaml')
+    lines = [str(w.message) for w in caught]
+    assert len(lines) == 2, lines
+    assert 'outlierFilter_minNeighbors 50 within outlierFilter_searchRadius 0.1 m' in lines[0]
+    assert 'read as automatic' in lines[0] and lines[0].endswith('(in original.yaml)')
+    assert 'max_Dist_ICP 0.01 m' in lines[1] and 'the default 0.1 m' in lines[1]
+    assert (p.outlierFilter_minNeighbors, p.outlierFilter_searchRadius, p.max_Dist_ICP) == (0, 0.0, 0.1)
+    assert (p.fitness_Fct_ICP, p.planeDetection_minAmountPoints) == (0.005, 100)  # mean the same here
+    # Through Pipeline's keyword arguments too.
+    with pytest.warns(core.LegacyValueWarning):
+        assert core.Pipeline(max_Dist_ICP=0.01).params.max_Dist_ICP == 0.1
+
+
+def test_values_under_the_new_names_and_refused_values_are_not_mapped():
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter('error', core.LegacyValueWarning)
+        q = core.Params.from_dict({'n_inlier': 50, 'r': 0.1, 'icp_max_distance': 0.01})
+        assert (q.outlierFilter_minNeighbors, q.outlierFilter_searchRadius, q.max_Dist_ICP) == (50, 0.1, 0.01)
+        # A refused value is refused as given, naming it, not hidden by a mapping.
+        with pytest.raises(ValueError, match='max_Dist_ICP'):
+            core.Pipeline(max_Dist_ICP=-1.0)
+
+
 def test_bad_params_are_refused_with_the_nodelets_messages():
     with pytest.raises(ValueError, match=r'max_measure_distance \(d_max\) = -1 is out of range'):
         core.Pipeline(max_measure_distance=-1.0)
@@ -212,7 +243,7 @@ def test_an_implausible_removal_is_named_in_the_warnings(mirror_sweep):
     s = mirror_sweep
     # 50 neighbours within 1 cm exist nowhere in a rotating scanner's sweep: the filter deletes
     # nearly everything, and says so, naming the parameters and the share.
-    tight = core.Pipeline(outlierFilter_searchRadius=0.01, outlierFilter_minNeighbors=50)
+    tight = core.Pipeline(r=0.01, n_inlier=50)  # new names: honoured, not mapped
     r = tight.filter(xyz(s.echo1), xyz(s.echo2))
     assert r.warnings and r.warnings == r.stats['warnings']
     assert 'outlierFilter_searchRadius = 0.01 m' in r.warnings[0]

@@ -18,7 +18,7 @@
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/ros/dual_return.h"
-#include "ohm_mirror_detector3d/ros/legacy_values.h"
+#include "ohm_mirror_detector3d/core/legacy_values.h"
 #include "ohm_mirror_detector3d/ros/multi_echo_scan.h"
 #include "ohm_mirror_detector3d/ros/parameters.h"
 
@@ -243,7 +243,7 @@ core::Params readMapped(const MapParams& source, std::vector<std::string>& lines
   std::vector<std::string> errors;
   core::Params params = ros_io::readParams(source, errors);
   EXPECT_TRUE(errors.empty());
-  lines = ros_io::mapLegacyValues(source, params);
+  lines = core::mapLegacyValues([&](const std::string& name) { return source.has(name); }, params);
   return params;
 }
 

@@ -33,6 +33,10 @@ struct ObjectExtractionConfig
   // two beams wide is no surface: mixed pixels along a depth edge, whose footprint straddles
   // it and returns from both sides, make such lines.
   int min_beams_across = 3;
+  // The full angle of a beam's footprint, in column steps of the sweep (SweepSampling::col_step,
+  // the step along a scan line). The rectangle is grown by the part of the sampling spacing
+  // the footprint does not cover (see buildObject); 0: thin beams, grown by the whole spacing.
+  double footprint_steps = 0.0;
 };
 
 // Fits planes to errorSurface points and cuts them into rectangular objects. Owns its

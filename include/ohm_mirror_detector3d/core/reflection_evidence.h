@@ -68,9 +68,10 @@ public:
 
 private:
   // Calls visit(x) for every indexed return x (relative to the origin) in the cells that the
-  // angular window of radius_ around `direction` touches.
+  // angular window of radius_ around `direction` touches, in the index's order, except returns
+  // that are certainly outside the window (see kWindowSlack); `unit` is direction normalised.
   template <typename Visit>
-  void forEachNear(const Eigen::Vector3f& direction, Visit visit) const;
+  void forEachNear(const Eigen::Vector3f& direction, const Eigen::Vector3f& unit, Visit visit) const;
 
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   float step_ = 0.0f;       // the sweep's coarser angular step [rad]
@@ -79,6 +80,8 @@ private:
   float inverse_cell_ = 0.0f;
   std::uint32_t cells_per_side_ = 0;
   SpatialIndex index_;      // returns relative to the origin, grouped by cube-map cell
+  std::vector<float> squared_ranges_;  // |x|^2 of the index's returns, in its sorted order
+  float window_cosine_bound_ = 0.0f;   // 1 + radius_^2 with slack (forEachNear)
   std::vector<float> row_angles_, column_angles_;
 };
 

@@ -74,6 +74,10 @@ struct ReflectiveObject
   Eigen::Vector3f height_axis = Eigen::Vector3f::UnitY();
   float width = 0.0f;
   float height = 0.0f;
+  // The width of a beam's footprint at the object [m]: a beam whose centre passes up to half
+  // of it beside an edge still returns from the object (its surface echo and, off a mirror, a
+  // phantom in the beam's direction), so the vision cone reaches that far beyond the edges.
+  float footprint = 0.0f;
 
   // The errorSurface points the plane was fitted to.
   std::vector<PointRef> surface_inliers;

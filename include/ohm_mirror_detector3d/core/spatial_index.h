@@ -223,6 +223,12 @@ public:
       return Range();
     return Range{ cell_start_[cell], cell_start_[cell] + cellSize(cell) };
   }
+  // The points of the cells first_key .. last_key of a dense lookup (keys are cell numbers, so
+  // consecutive cells are one contiguous range), in key order (Options::dense_cells, block 1).
+  Range cellRunPoints(std::uint64_t first_key, std::uint64_t last_key) const
+  {
+    return Range{ cell_start_[first_key], cell_start_[last_key + 1] };
+  }
   // The points of the cells key - kStepZ, key, key + kStepZ (a column of three along z, in
   // that order), one contiguous range (Options::lookup, block 1).
   Range columnPoints(std::uint64_t key) const

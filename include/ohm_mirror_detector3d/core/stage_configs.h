@@ -44,6 +44,11 @@ constexpr int kAutomaticMinNeighbors = 1;
 // 3 x 3 beams, the smallest patch that is kMinBeamsAcross across both ways.
 constexpr int kAutomaticMinObjectPoints = 9;
 constexpr int kMinBeamsAcross = 3;
+// A lidar's beam is about as wide as its step along a scan line (the divergence matches the
+// resolution: the UTM-30LX-EW's 0.25 deg at 0.25 deg; the 128- and 32-ring lidars of
+// SENSORS.md about 0.18 deg at 0.18 and 0.16 deg): object rectangles take the footprint as one
+// column step (ObjectExtractionConfig::footprint_steps).
+constexpr double kFootprintSteps = 1.0;
 
 }  // namespace core
 }  // namespace ohm_mirror_detector3d

@@ -1,5 +1,6 @@
 // Where a point lies relative to an object's vision cone: the cone from the sensor origin
-// through the object's rectangle, grown by the vision-cone margin.
+// through the object's rectangle, grown by half the beam footprint (ReflectiveObject::footprint)
+// and the vision-cone margin.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,7 +32,8 @@ struct ConeHit
 class VisionCone
 {
 public:
-  // `margin` grows the rectangle on every side; `plane_threshold` is the surface's half thickness.
+  // `margin` grows the rectangle on every side beyond half the footprint; `plane_threshold` is
+  // the surface's half thickness.
   VisionCone(const ReflectiveObject& object, const Eigen::Vector3f& origin, float plane_threshold, float margin)
     : normal_(object.plane.head<3>())
     , offset_(object.plane[3])
@@ -39,8 +41,8 @@ public:
     , centre_(object.centre)
     , width_axis_(object.width_axis)
     , height_axis_(object.height_axis)
-    , half_width_(0.5f * object.width + margin)
-    , half_height_(0.5f * object.height + margin)
+    , half_width_(0.5f * (object.width + object.footprint) + margin)
+    , half_height_(0.5f * (object.height + object.footprint) + margin)
     , plane_threshold_(plane_threshold)
     , origin_side_(object.signedDistance(origin))
   {
