@@ -325,16 +325,6 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
       corners[corner_count++] = k;
   if (corner_count == 0)
     return result;
-  // "Seen through" needs returns beyond q on every side of q's direction (above and below, left
-  // and right). With none on one side, q is beyond the edge of what the sensor sampled (outside
-  // its field of view), and the returns on the other side say nothing about q's direction: a
-  // mirror tilted towards the ceiling shows ceiling above a lidar's highest ring, which sees the
-  // ceiling at grazing incidence and far away, so such phantoms looked "seen through" and typed
-  // the mirror glass. The sensor never looked there: no return. (Landing on the edge of a seen
-  // surface stays a phantom: the surface is there.)
-  const bool below = nearest[0] >= 0 || nearest[1] >= 0, above = nearest[2] >= 0 || nearest[3] >= 0;
-  const bool left = nearest[0] >= 0 || nearest[2] >= 0, right = nearest[1] >= 0 || nearest[3] >= 0;
-  const bool surrounded = below && above && left && right;
 
   // One surface when the corners' ranges differ by no more than a surface seen at up to 80
   // degrees could across their spread of directions.
@@ -408,11 +398,6 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
                      std::fabs(best) <= tol ? ReflectionOutcome::phantom :
                                               ReflectionOutcome::occluded;
     seen = range + best;
-  }
-  if (result.outcome == ReflectionOutcome::transmitted && !surrounded)
-  {
-    result.outcome = ReflectionOutcome::noReturn;
-    result.range_difference = std::numeric_limits<float>::quiet_NaN();
   }
   if (result.outcome != ReflectionOutcome::phantom)
     return result;

@@ -60,18 +60,18 @@ inline bool everywhere(const Eigen::Vector3f&)
 }
 
 // A sweep of a spinning lidar at the origin: 1 degree steps in azimuth (all around) and in
-// elevation (lowest to highest degrees, -60 to 60 unless given), each beam's single return on
-// the nearest wall it hits (none: a non-finite point).
-inline core::Sweep rangeImage(const std::vector<Wall>& walls, int lowest_elevation = -60, int highest_elevation = 60)
+// elevation (-60 to 60 degrees), each beam's single return on the nearest wall it hits (none:
+// a non-finite point).
+inline core::Sweep rangeImage(const std::vector<Wall>& walls)
 {
   const float degree = static_cast<float>(M_PI) / 180.0f;
   core::Sweep sweep;
-  const std::size_t rows = static_cast<std::size_t>(highest_elevation - lowest_elevation + 1), cols = 360;
+  const std::size_t rows = 121, cols = 360;
   sweep.resize(rows, cols);
   for (std::size_t r = 0; r < rows; ++r)
     for (std::size_t c = 0; c < cols; ++c)
     {
-      const float elevation = (static_cast<float>(r) + static_cast<float>(lowest_elevation)) * degree;
+      const float elevation = (static_cast<float>(r) - 60.0f) * degree;
       const float azimuth = static_cast<float>(c) * degree;
       const Eigen::Vector3f direction(std::cos(elevation) * std::cos(azimuth),
                                       std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
