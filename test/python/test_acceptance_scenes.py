@@ -1,20 +1,20 @@
-"""Acceptance of issue 14: the targets of `make evaluate` on a fixed-seed subset (random scenes 0-11 and
-the named scenes, every sensor family, the filter's default parameters, realistic physics).
+"""Acceptance of issue 14: the figures of `make evaluate` (the filter's default parameters, realistic
+physics, every sensor family) on fixed-seed scenes.
 
-NOT run by `make test` yet: today's filter misses the targets (evaluation/baseline_defaults/), and the
-filter work of issue 14 (sensor-adaptive defaults, the per-point decision) is what is to meet them.
-It runs with OHM_ACCEPTANCE=1:
+* test_subset_holds (run by `make test`): random scenes 0-7 of every family. Where the filter meets
+  issue 14's target on them, the target is asserted; where it does not yet, the level it reached
+  (evaluation/quality14_defaults/ for the full run, these scenes for the subset) is asserted with a
+  little slack, so that a regression fails while the target stays in view (SUBSET_LEVELS; each one
+  names the target it falls short of). Raise a level when the filter gets better; replace it by the
+  target when the target is met.
+* test_target_is_met (OHM_ACCEPTANCE=1 only): the targets themselves on random scenes 0-11 and the
+  named scenes; not met yet (see the README's issue-14 table):
 
     source .ws/devel/setup.bash && OHM_ACCEPTANCE=1 /usr/bin/python3 -m pytest test/python/test_acceptance_scenes.py
-
-and is enabled for good by deleting `pytestmark` below.
 """
 import os
 
 import pytest
-
-pytestmark = pytest.mark.skipif(os.environ.get('OHM_ACCEPTANCE') != '1',
-                                reason="issue 14's targets are not met by today's filter; OHM_ACCEPTANCE=1 runs it")
 
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
 
@@ -24,6 +24,67 @@ from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
 RANDOM_SCENES = 12
 SEED = 0
 
+SUBSET_SCENES = 8
+SUBSET_SEED = 0
+
+_IOU_SURFACE = ('iou', 'surface', 'double_echo')
+_IOU_PHANTOM = ('iou', 'phantom', 'double_echo')
+_IOU_GLASS = ('iou', 'behind_glass', 'double_echo')
+_WRONG_PLACE = ('double_echo_phantom_wrong_place_fraction',)
+_TYPES = ('object_types', 'fraction')
+
+# Per family, the figures whose issue-14 target the filter does not meet on the subset yet: the
+# bound it must still hold (the level reached on scenes 0-7, less 0.03 of an IoU, 3 percentage
+# points of phantoms left at a wrong place, 8 points of types right: one or two objects). The
+# targets: surface IoU >= 0.85, phantom and behind-glass IoU >= 0.80, phantoms left at a wrong
+# place <= 2 %, types right >= 90 %. Every other target (surface IoU where met, real points lost
+# <= 0.3 %, false objects in <= 5 % of the scenes without reflective surfaces) is asserted as it is.
+SUBSET_LEVELS = {
+    'hokuyo_utm30lx_ew': {_IOU_SURFACE: 0.51, _IOU_PHANTOM: 0.37, _IOU_GLASS: 0.22, _WRONG_PLACE: 0.62,
+                          _TYPES: 0.49},
+    'hesai_qt64': {_IOU_PHANTOM: 0.40, _IOU_GLASS: 0.71, _WRONG_PLACE: 0.57, _TYPES: 0.38},
+    'ouster_os0_128': {_IOU_PHANTOM: 0.42, _IOU_GLASS: 0.72, _WRONG_PLACE: 0.54, _TYPES: 0.57},
+    'velodyne_hdl32e': {_IOU_SURFACE: 0.50, _IOU_PHANTOM: 0.18, _IOU_GLASS: 0.21, _WRONG_PLACE: 0.86,
+                        _TYPES: 0.30},
+}
+
+_TARGETS = [t for t in ev.TARGETS if t[3] is not None]
+
+
+@pytest.fixture(scope='module', params=scanner.FAMILIES)
+def subset_summary(request):
+    _, summaries = ev.run([request.param], SUBSET_SCENES, SUBSET_SEED, named=False)
+    return request.param, summaries[request.param]['all']
+
+
+@pytest.mark.parametrize('target', _TARGETS, ids=lambda t: '-'.join(t[0]))
+def test_subset_holds(subset_summary, target):
+    family, summary = subset_summary
+    key, what, bound, met = target
+    value = ev.figure(summary, key)
+    assert value is not None, '%s: %s was not measured' % (family, what)
+    level = SUBSET_LEVELS[family].get(key)
+    if level is None:
+        assert met(value), '%s: %s = %.4g, target %s' % (family, what, value, bound)
+    elif bound.startswith('≥'):
+        assert value >= level, '%s: %s = %.4g fell below the level reached, %.4g (target %s)' % (
+            family, what, value, level, bound)
+    else:
+        assert value <= level, '%s: %s = %.4g rose above the level reached, %.4g (target %s)' % (
+            family, what, value, level, bound)
+
+
+def test_subset_levels_name_targets_only():
+    """A level stands in only for a target: a figure without one, or a level already past its
+    target (which is then to be asserted instead), is a mistake in SUBSET_LEVELS."""
+    targets = {t[0]: t for t in _TARGETS}
+    assert set(SUBSET_LEVELS) == set(scanner.FAMILIES)
+    for family, levels in SUBSET_LEVELS.items():
+        for key, level in levels.items():
+            assert key in targets, '%s: %s has no target' % (family, key)
+            assert not targets[key][3](level), '%s: the level %.4g of %s meets its target %s: assert the target' % (
+                family, level, targets[key][1], targets[key][2])
+
 
 @pytest.fixture(scope='module', params=scanner.FAMILIES)
 def family_summary(request):
@@ -31,7 +92,9 @@ def family_summary(request):
     return request.param, summaries
 
 
-@pytest.mark.parametrize('target', [t for t in ev.TARGETS if t[3] is not None], ids=lambda t: '-'.join(t[0]))
+@pytest.mark.skipif(os.environ.get('OHM_ACCEPTANCE') != '1',
+                    reason="issue 14's targets are not met yet on every family; OHM_ACCEPTANCE=1 runs it")
+@pytest.mark.parametrize('target', _TARGETS, ids=lambda t: '-'.join(t[0]))
 def test_target_is_met(family_summary, target):
     family, summaries = family_summary
     key, what, bound, met = target

@@ -1,0 +1,30 @@
+"""scripts/quality_breakdown: its breakdown accounts for exactly the points the evaluator counts."""
+import os
+from importlib.machinery import SourceFileLoader
+
+import pytest
+
+core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
+
+from ohm_mirror_detector3d import metrics  # noqa: E402
+from ohm_mirror_detector3d import scene as scenes  # noqa: E402
+from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
+from ohm_mirror_detector3d.simulate import SweepSimulator, ground_truth_objects  # noqa: E402
+
+SCRIPT = os.path.join(os.path.dirname(__file__), '..', '..', 'scripts', 'quality_breakdown')
+
+
+def test_the_breakdown_counts_what_the_evaluator_counts():
+    breakdown = SourceFileLoader('quality_breakdown', SCRIPT).load_module()
+    case = ev.cases(['hesai_qt64'], 1, 3, named=False)[0]
+    pipeline = core.Pipeline()
+    b = breakdown.breakdown(case, pipeline)
+    sweep = SweepSimulator(scenes.get(case.scene), ev.scanner_of(case)).sweep(seed=case.seed)
+    gt, labelled, cleaned, objects = ev.filter_case(pipeline, sweep, ev.INPUT_MODES[case.family])
+    score = metrics.evaluate_sweep(gt, labelled, cleaned, objects, ground_truth_objects(sweep))
+    counts = score['counts']
+    assert counts['double_echo_phantoms_wrong_place'] > 0, 'a scene without the case the breakdown explains'
+    assert sum(b['phantom'].values()) == counts['double_echo_phantoms_wrong_place']
+    assert b['counts']['double-echo phantoms'] == counts['double_echo_phantoms']
+    # Every ground-truth object with enough surface echoes appears once in the type confusion.
+    assert len(b['types']) == metrics.type_accuracy([score], ev.MIN_SURFACE_POINTS)['objects']
