@@ -10,9 +10,9 @@ namespace core
 {
 namespace
 {
-// A cell of about 1.25 ray spacings: most cells of a plane the sensor sees through hold a
+// A cell of about 1.6 ray spacings: most cells of a plane the sensor sees through hold a
 // crossing, and a cell without one (a gap in the sampling) is bridged by the growth.
-constexpr float kCellPerSpacing = 1.25f;
+constexpr float kCellPerSpacing = 1.6f;
 constexpr float kMinCell = 0.005f;  // [m]
 // Keeps the grid's size bounded for a large cap at a short range (the cell then grows).
 constexpr float kMaxCellsPerSide = 1024.0f;
@@ -20,6 +20,8 @@ constexpr float kMaxCellsPerSide = 1024.0f;
 // the rays grows with the incidence, the cell stays a usable size.
 constexpr float kMinCosine = 0.5f;
 
+// In plane thresholds: how far in front of the plane a return still marks a boundary.
+constexpr float kStopBand = 4.0f;
 // Sides whose slopes differ less than this are equally horizontal (a horizontal plane): the
 // longer is then the width.
 constexpr float kSameTilt = 1e-3f;
@@ -78,6 +80,10 @@ void PlaneCrossings::build(const Sweep& sweep, const SweepLabels& labels, const 
   reset(cells);
 
   const float threshold = config.plane_threshold;
+  // Returns nearer the plane than this in front of it stop rays there (a wall in front of a plane
+  // fitted a little tilted); a ray stopped further in front leaves its cell empty, and two empty
+  // cells in a row end the growth just the same.
+  const float stop_band = std::min(kStopBand * threshold, origin_side);
   const Eigen::Vector3f& centre = object.centre;
   const Eigen::Vector3f& width_axis = object.width_axis;
   const Eigen::Vector3f& height_axis = object.height_axis;
@@ -96,8 +102,8 @@ void PlaneCrossings::build(const Sweep& sweep, const SweepLabels& labels, const 
       if (k == 1 && labels.echoes[0][b] != Label::nanPoint && p == sweep.echoes[0].points[b])
         continue;
       const float side = normal.dot(p) + offset;
-      if (!(side < origin_side))
-        continue;  // its ray does not head for the plane (or the point is not finite)
+      if (!(side < stop_band))
+        continue;  // far in front of the plane (or not finite)
       if (side >= -threshold)
       {
         // Stopped on the plane or before it (a frame, the wall, an occluder; a plane fitted a

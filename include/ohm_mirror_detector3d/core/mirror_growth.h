@@ -26,13 +26,14 @@ public:
 
   const char* name() const override { return "mirror_growth"; }
 
-  // Grows every object of type mirror (PlaneCrossings::grow); a cell is taken when most of (at
-  // most kTestedPerCell of) the points behind crossing it land on what the sensor saw, at least
-  // one of them a phantom (not only ambiguous).
+  // Grows every object of type mirror (PlaneCrossings::grow); a cell is taken when at least half
+  // of (at most kTestedPerCell of) the points behind crossing it land on what the sensor saw, at
+  // least one of them a phantom (not only ambiguous). The test stops as soon as the answer is
+  // known: the evidence test is the stage's cost.
   void process(const Sweep& sweep, const SweepContext& context, const ReflectionEvidence& evidence,
                SweepLabels& labels, std::vector<ReflectiveObject>& objects) override;
 
-  static constexpr std::size_t kTestedPerCell = 4;
+  static constexpr std::size_t kTestedPerCell = 2;
 
 private:
   ObjectGrowthConfig config_;
