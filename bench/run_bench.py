@@ -6,7 +6,8 @@ for `empty_room` (no reflective object) and `two_mirrors_and_glass`; seed 0, ran
 size uses the parameters of launch/rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours).
 The sweeps go to a temporary directory as binary files (int64 rows, cols; echo 1 and echo 2 as N x 4
 float32 x y z intensity) and bench_pipeline times each one in a process of its own (so that peak RSS is
-per sweep). In the same process, right after ours, the PCL baseline (bench/pcl_baseline.cpp: the same
+per sweep). In the same process the same sweep runs again with grow_objects 1 (extent growth: the object
+stages' time is reported beside the total). Right after ours, the PCL baseline (bench/pcl_baseline.cpp: the same
 stages with PCL's generic tools) is timed on the same sweep, with few repeats because it is slow (--baseline-repeats;
 1 at the big sizes), and the ratio baseline/ours is reported. Then the resident set after 100 and after 10,000 sweeps
 of 1080 x 100 with objects through one pipeline (--rss-sweeps). Last, the latency of the real nodelet in a
@@ -89,6 +90,19 @@ def table(results):
         row += ['%.0f (%d)' % (1e3 * b['stages']['total']['median_s'], b['repeats']), '%.0fx' % b['speedup']] \
             if b else ['–', '–']
         lines.append('| ' + ' | '.join(row) + ' |')
+    return '\n'.join(lines)
+
+
+def extent_growth_table(results):
+    """The object stages with grow_objects on (mirror and glass growth), beside the whole pipeline."""
+    lines = ['| size | scene | objects | growth stages median ms | p95 ms | total with growth median ms |'
+             ' total without median ms |', '|---|---|---|---|---|---|---|']
+    for r in results:
+        g = r.get('growth')
+        if g:
+            lines.append('| %s | %s | %d | %.2f | %.2f | %.1f | %.1f |' % (
+                r['size'], r['scene'], r['objects'], 1e3 * g['object_stages_median_s'],
+                1e3 * g['object_stages_p95_s'], 1e3 * g['total_median_s'], 1e3 * r['stages']['total']['median_s']))
     return '\n'.join(lines)
 
 
@@ -236,6 +250,8 @@ def main():
           'baseline: median of %d run(s) at 1080x100, 1 run at the bigger sizes (it is slow).\n'
           % (m['cpu_model'], m['nproc'], m['load_average'], args.baseline_repeats))
     print(table(results))
+    print('\nExtent growth (grow_objects 1: mirror and glass growth), the same sweeps and repeats:\n')
+    print(extent_growth_table(results))
     print('\nGrowth (median time per beam, RotatingHokuyo 1080 x R; exponent k of t ~ N^k):\n')
     for scene, g in report['growth'].items():
         print('- %s: %s us/beam at %s beams, k = %.2f'

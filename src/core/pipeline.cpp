@@ -1,5 +1,8 @@
 #include "ohm_mirror_detector3d/core/pipeline.h"
 
+#include "ohm_mirror_detector3d/core/glass_growth.h"
+#include "ohm_mirror_detector3d/core/mirror_growth.h"
+
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -57,6 +60,19 @@ void countRemoved(const std::vector<std::uint8_t>& marks, const SweepLabels& lab
     counts.second_returns_removed += (m & kTwoReturns) && second_removed ? 1 : 0;
   }
 }
+
+// The object stages the parameters switch on, in the order they run: the one place where the
+// nodelet, prefilter_bag and the Python API get them from.
+std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& configs)
+{
+  std::vector<std::unique_ptr<ObjectStage>> stages;
+  if (configs.growth.enabled)
+  {
+    stages.push_back(std::make_unique<MirrorGrowth>(configs.growth));
+    stages.push_back(std::make_unique<GlassGrowth>(configs.growth));
+  }
+  return stages;
+}
 }  // namespace
 
 class Pipeline::StageClock
@@ -95,7 +111,10 @@ Pipeline::Stages::Stages(const StageConfigs& configs)
 }
 
 Pipeline::Pipeline(const Params& params)
-  : params_(checked(params)), configs_(stageConfigs(params_)), stages_(configs_)
+  : params_(checked(params))
+  , configs_(stageConfigs(params_))
+  , stages_(configs_)
+  , parameter_stages_(parameterStages(configs_))
 {
 }
 
@@ -104,6 +123,7 @@ void Pipeline::setParams(const Params& params)
   StageConfigs configs = stageConfigs(checked(params));
   Stages stages(configs);
   stages_ = std::move(stages);
+  parameter_stages_ = parameterStages(configs);
   configs_ = configs;
   params_ = params;
 }
@@ -182,6 +202,11 @@ const ReflectionEvidence& Pipeline::evidence(const Sweep& sweep, const Eigen::Ve
 
 void Pipeline::runObjectStages(const Sweep& sweep, const SweepContext& context, StageClock& clock)
 {
+  // The parameters' stages work on the objects found (without one the evidence is not built
+  // for them); an added stage may also add objects.
+  if (!result_.objects.empty())
+    for (const std::unique_ptr<ObjectStage>& stage : parameter_stages_)
+      stage->process(sweep, context, evidence(sweep, context.sensorOrigin()), result_.labels, result_.objects);
   for (const std::unique_ptr<ObjectStage>& stage : object_stages_)
     stage->process(sweep, context, evidence(sweep, context.sensorOrigin()), result_.labels, result_.objects);
   result_.times.object_stages = clock.lap();

@@ -213,7 +213,8 @@ class FilterResult:
       nanPoint with echo 0 and beam 0xFFFFFFFF.
     cleaned: the points for mapping (OUTPUT_DTYPE), mirror phantoms back-projected.
     objects: one dict per mirror/glass/unknown rectangle (id, type, type_name, corners (4, 3),
-      width, height, plane (a, b, c, d), centre, the counts surface_points, behind_points,
+      width, height, the surface-echo patch patch_corners (4, 3), patch_width, patch_height (the
+      rectangle itself unless grow_objects grew it), growth_capped, plane (a, b, c, d), centre, the counts surface_points, behind_points,
       phantom_points, transmitted_points, ambiguous_points, undecided_points, the type's evidence
       mirrored_points, tested_points, inlier_fraction, real_fraction, landing_fitness,
       plane_refined, plane_correction, and mean_surface_intensity).

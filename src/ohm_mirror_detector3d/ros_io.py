@@ -116,6 +116,12 @@ def objects_to_msg(objects, header):
         m.type = int(o.get('type', ReflectiveObject.TYPE_UNKNOWN))
         m.corners = [Point(*map(float, c)) for c in np.asarray(o['corners'], float).reshape(4, 3)]
         m.width, m.height = float(o['width']), float(o['height'])
+        # The surface-echo patch: the rectangle itself when the object did not grow.
+        m.patch_corners = [Point(*map(float, c))
+                           for c in np.asarray(o.get('patch_corners', o['corners']), float).reshape(4, 3)]
+        m.patch_width = float(o.get('patch_width', o['width']))
+        m.patch_height = float(o.get('patch_height', o['height']))
+        m.growth_capped = bool(o.get('growth_capped', False))
         m.plane = [float(x) for x in o['plane']]
         for key in OBJECT_COUNTS:
             setattr(m, key, int(o.get(key, 0)))
@@ -136,6 +142,9 @@ def objects_from_msg(msg):
             'id': int(m.id), 'type': int(m.type),
             'corners': np.array([[c.x, c.y, c.z] for c in m.corners], float),
             'width': float(m.width), 'height': float(m.height), 'plane': np.array(m.plane, float),
+            'patch_corners': np.array([[c.x, c.y, c.z] for c in m.patch_corners], float),
+            'patch_width': float(m.patch_width), 'patch_height': float(m.patch_height),
+            'growth_capped': bool(m.growth_capped),
             **{key: int(getattr(m, key)) for key in OBJECT_COUNTS},
             'inlier_fraction': float(m.inlier_fraction), 'real_fraction': float(m.real_fraction),
             'landing_fitness': float(m.landing_fitness), 'plane_refined': bool(m.plane_refined),

@@ -472,10 +472,72 @@ def mirror_open_space():
     return s
 
 
+def facing_tall_mirrors():
+    s = Scene('facing_tall_mirrors', 'Two 0.9x1.9 m mirrors on opposite walls 2.4 m apart, facing each other, '
+              'the scanner between them: surface echoes only near the perpendicular, beams reflected twice.')
+    s.extend(room(0, 0, 5.0, 2.4, 2.6))
+    _scanner_on_table(s, 2.3, 1.2)
+    s.add(panel((2.5, 0.01, 1.05), 90.0, 0.90, 1.90, MIRROR_GLASS, 0.0, 'mirror_south'))
+    s.add(panel((2.5, 2.39, 1.05), -90.0, 0.90, 1.90, MIRROR_GLASS, 0.0, 'mirror_north'))
+    return s
+
+
+def wall_mirror():
+    s = Scene('wall_mirror', 'A 2x1.5 m mirror on the wall 1.5 m in front of the scanner: a surface echo only '
+              'near the perpendicular, single-echo phantoms over the rest of it.')
+    s.extend(room(0, 0, 5.0, 4.0, 2.6))
+    _scanner_on_table(s, 3.5, 2.0)
+    s.add(panel((4.99, 2.0, 1.25), 180.0, 2.0, 1.5, MIRROR_GLASS, 0.0, 'mirror'))
+    return s
+
+
+def pane_in_wall():
+    s = Scene('pane_in_wall', 'A 2.4x1.5 m window pane in a wall 3 m in front of the scanner, a furnished room '
+              'behind it: a surface echo only near the perpendicular.')
+    window = (0.8, 3.2, 0.5, 2.0)   # east wall x = 5, along y
+    s.extend(room(0, 0, 5.0, 4.0, 2.6, openings={'east': [window]}))
+    s.extend(room(5.0, -1.0, 10.0, 5.0, 2.6, openings={'west': [(6.0 - 3.2 - 1.0, 6.0 - 0.8 - 1.0, 0.5, 2.0)]},
+                  name='room_behind'))
+    _scanner_on_table(s, 2.0, 2.0)
+    s.add(Rectangle((5.0, 2.0, 1.25), (0, 1, 0), (0, 0, 1), 2.4, 1.5, WINDOW_GLASS, 'pane'))
+    s.extend(table((7.5, 1.0), (1.6, 0.8), 0.74, name='desk'))
+    s.extend(box((8.0, 3.2), (0.5, 0.5), 0.45, FABRIC, name='chair'))
+    s.extend(box((9.6, 2.0), (0.45, 1.2), 1.9, WOOD, name='cabinet'))
+    return s
+
+
+def office():
+    s = Scene('office', 'An office without mirrors or glass: desks, cabinets, chairs, a sideboard.')
+    s.extend(room(0, 0, 6.0, 5.0, 2.7))
+    _scanner_on_table(s, 3.0, 2.3)
+    s.extend(table((1.0, 4.3), (1.6, 0.8), 0.74, name='desk1'))
+    s.extend(table((5.0, 4.3), (1.6, 0.8), 0.74, name='desk2'))
+    s.extend(table((3.0, 0.6), (1.6, 0.8), 0.74, name='desk3'))
+    s.extend(box((0.25, 1.5), (0.45, 1.2), 1.9, WOOD, name='cabinet1'))
+    s.extend(box((5.75, 1.0), (0.45, 0.9), 1.2, WOOD, name='cabinet2'))
+    s.extend(box((1.2, 3.6), (0.5, 0.5), 0.45, FABRIC, name='chair1'))
+    s.extend(box((4.8, 3.6), (0.5, 0.5), 0.45, FABRIC, name='chair2'))
+    s.extend(box((0.5, 0.3), (0.9, 0.4), 0.9, WOOD, name='sideboard'))
+    return s
+
+
+def doorway_room():
+    s = Scene('doorway_room', 'A room with a large doorway (1.6x2.1 m, no door) in the wall 2.4 m in front of '
+              'the scanner, a corridor behind it: an opening is never glass.')
+    doorway = (1.2, 2.8, 0.0, 2.1)   # east wall x = 5, along y
+    s.extend(room(0, 0, 5.0, 4.0, 2.6, openings={'east': [doorway]}))
+    s.extend(room(5.0, -2.0, 7.0, 6.0, 2.6, openings={'west': [(8.0 - 2.8 - 2.0, 8.0 - 1.2 - 2.0, 0.0, 2.1)]},
+                  name='corridor'))
+    _scanner_on_table(s, 2.6, 2.0)
+    s.extend(box((6.5, 3.0), (0.45, 1.2), 1.9, WOOD, name='cabinet'))
+    return s
+
+
 _REGISTRY: Dict[str, Callable[[], Scene]] = {
     f.__name__: f for f in (experiment1, experiment2, experiment3, experiment4, empty_room, glass_wall,
                             facing_mirrors, floor_mirror, mirror_and_glass, mirror_open_space,
-                            two_mirrors_and_glass)
+                            two_mirrors_and_glass, facing_tall_mirrors, wall_mirror, pane_in_wall, office,
+                            doorway_room)
 }
 
 

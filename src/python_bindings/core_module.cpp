@@ -243,6 +243,16 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["corners"] = c;
   d["width"] = static_cast<double>(object.width);
   d["height"] = static_cast<double>(object.height);
+  const std::array<Eigen::Vector3f, 4> patch = object.patchCorners();
+  py::array_t<double> pc(std::vector<py::ssize_t>{ 4, 3 });
+  auto pw = pc.mutable_unchecked<2>();
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 3; ++j)
+      pw(k, j) = patch[static_cast<std::size_t>(k)][j];
+  d["patch_corners"] = pc;
+  d["patch_width"] = static_cast<double>(object.grown ? object.patch_width : object.width);
+  d["patch_height"] = static_cast<double>(object.grown ? object.patch_height : object.height);
+  d["growth_capped"] = object.growth_capped;
   py::array_t<double> plane(4);
   py::array_t<double> centre(3);
   for (int k = 0; k < 4; ++k)

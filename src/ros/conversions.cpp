@@ -220,6 +220,12 @@ void toObjectArray(const std_msgs::Header& header, const std::vector<core::Refle
       out.corners[c] = toPoint(corners[c]);
     out.width = object.width;
     out.height = object.height;
+    const std::array<Eigen::Vector3f, 4> patch = object.patchCorners();
+    for (std::size_t c = 0; c < 4; ++c)
+      out.patch_corners[c] = toPoint(patch[c]);
+    out.patch_width = object.grown ? object.patch_width : object.width;
+    out.patch_height = object.grown ? object.patch_height : object.height;
+    out.growth_capped = object.growth_capped;
     for (int c = 0; c < 4; ++c)
       out.plane[static_cast<std::size_t>(c)] = object.plane[c];
     out.surface_points = static_cast<std::uint32_t>(object.surface_points);
@@ -264,6 +270,19 @@ void toMarkers(const std_msgs::Header& header, const std::vector<core::Reflectiv
       outline.points.push_back(toPoint(corner));
     outline.points.push_back(toPoint(corners[0]));
     markers.markers.push_back(outline);
+    if (object.grown)
+    {
+      // The surface-echo patch the rectangle grew from, thinner inside it.
+      visualization_msgs::Marker patch = outline;
+      patch.ns = "patches";
+      patch.scale.x = 0.01;
+      patch.points.clear();
+      const std::array<Eigen::Vector3f, 4> patch_corners = object.patchCorners();
+      for (const Eigen::Vector3f& corner : patch_corners)
+        patch.points.push_back(toPoint(corner));
+      patch.points.push_back(toPoint(patch_corners[0]));
+      markers.markers.push_back(patch);
+    }
 
     visualization_msgs::Marker text;
     text.header = header;

@@ -44,6 +44,10 @@ TEST(StageConfigs, EachStageGetsItsOwnValuesFromTheParameters)
   EXPECT_EQ(c.object_type.icp_min_inlier_fraction, p.icp_min_inlier_fraction);
   EXPECT_EQ(c.cone_labelling.plane_threshold, p.plane_threshold);
   EXPECT_EQ(c.cone_labelling.cone_margin, p.vision_cone_margin);
+  EXPECT_TRUE(c.growth.enabled);
+  EXPECT_FLOAT_EQ(c.growth.plane_threshold, static_cast<float>(p.plane_threshold));
+  EXPECT_FLOAT_EQ(c.growth.max_growth, static_cast<float>(p.growth_max_extent));
+  EXPECT_FALSE(core::stageConfigs(core::Params()).growth.enabled);
 }
 
 TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
@@ -58,6 +62,8 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
     core::Params changed = base;
     if (param.real_field != nullptr)
       changed.*param.real_field += 0.25;
+    else if (param.upper.present && changed.*param.integer_field >= param.upper.value)
+      changed.*param.integer_field = static_cast<int>(param.lower.value);  // a switch: turned off
     else
       changed.*param.integer_field += 1;
     const core::StageConfigs after = core::stageConfigs(changed);
@@ -75,7 +81,8 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.object_type.icp_min_points != before.object_type.icp_min_points ||
         after.object_type.icp_min_inlier_fraction != before.object_type.icp_min_inlier_fraction ||
         after.cone_labelling.plane_threshold != before.cone_labelling.plane_threshold ||
-        after.cone_labelling.cone_margin != before.cone_labelling.cone_margin;
+        after.cone_labelling.cone_margin != before.cone_labelling.cone_margin ||
+        after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth;
     EXPECT_TRUE(differs) << param.name << " reaches no stage";
   }
 }

@@ -26,7 +26,7 @@ IDEAL = PhysicsParams.ideal()
 OBJECT_FIELDS = ('id', 'type', 'width', 'height', 'surface_points', 'behind_points', 'phantom_points',
                  'transmitted_points', 'ambiguous_points', 'undecided_points', 'mirrored_points', 'tested_points',
                  'inlier_fraction', 'real_fraction', 'landing_fitness', 'plane_refined', 'plane_correction',
-                 'mean_surface_intensity')
+                 'mean_surface_intensity', 'patch_width', 'patch_height', 'growth_capped')
 
 
 @pytest.fixture(scope='module')

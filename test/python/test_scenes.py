@@ -12,7 +12,7 @@ MODELS = [PhysicsParams.ideal(), PhysicsParams()]
 
 REQUIRED = ['experiment1', 'experiment2', 'experiment3', 'experiment4', 'empty_room', 'glass_wall',
             'facing_mirrors', 'floor_mirror', 'mirror_and_glass', 'mirror_open_space',
-            'two_mirrors_and_glass']
+            'two_mirrors_and_glass', 'facing_tall_mirrors', 'wall_mirror', 'pane_in_wall', 'office', 'doorway_room']
 
 
 def test_registry_lists_the_required_scenes():

@@ -38,14 +38,16 @@ PAPER_SIZES = {('experiment1', 0): (0.605, 0.419), ('experiment2', 0): (0.311, 0
 
 
 class FilterClient:
-    """Publishes sweeps to the pre-filter and waits for its three outputs of the same stamp."""
+    """Publishes sweeps to the pre-filter and waits for its three outputs of the same stamp (topics
+    under `namespace`, e.g. 'grown/', or the remapped names without one)."""
 
-    def __init__(self):
+    def __init__(self, namespace=''):
         self.outputs = {}
-        self.subscribers = [rospy.Subscriber(topic, kind, self.on_output, callback_args=topic, queue_size=5)
+        self.subscribers = [rospy.Subscriber(namespace + topic, kind, self.on_output, callback_args=topic,
+                                             queue_size=5)
                             for topic, kind in (('labelled', PointCloud2), ('cleaned', PointCloud2),
                                                 ('objects', ReflectiveObjectArray), ('markers', MarkerArray))]
-        self.publisher = rospy.Publisher('input', EchoPair, queue_size=1)
+        self.publisher = rospy.Publisher(namespace + 'input', EchoPair, queue_size=1)
 
     def on_output(self, msg, topic):
         stamp = msg.markers[0].header.stamp if topic == 'markers' else msg.header.stamp

@@ -2,8 +2,9 @@
 //   detect: the sweep's sampling, range gate, outlier filter, echo comparison, object
 //     extraction, mixed pixels, the per-point evidence (reflection_evidence.h), type decision
 //     (the objects and why);
-//   object stages: an ordered list of optional stages on whole objects (object_stage.h;
-//     none by default);
+//   object stages: an ordered list of optional stages on whole objects (object_stage.h): first
+//     those the parameters switch on (grow_objects: mirror_growth.h, glass_growth.h), built
+//     here from Params for every front end alike, then any added with addObjectStage;
 //   label: cone labelling, cleaned output with back-projection.
 // The stages are built from Params (stage_configs.h), each with only its own values; the
 // pipeline owns their buffers and reuses them from sweep to sweep.
@@ -82,12 +83,14 @@ public:
   // Throws std::invalid_argument naming every bad value when params.validate() fails.
   explicit Pipeline(const Params& params = Params());
 
-  // Same check as the constructor; on success the stages are rebuilt from the new values, on
-  // failure the previous parameters and stages stay in force. Object stages are kept.
+  // Same check as the constructor; on success the stages are rebuilt from the new values (the
+  // object stages the parameters switch on too), on failure the previous parameters and stages
+  // stay in force. Object stages added with addObjectStage are kept.
   void setParams(const Params& params);
   const Params& params() const { return params_; }
 
-  // Appends a stage to the object stages; they run in the order added.
+  // Appends a stage to the object stages; they run in the order added, after those the
+  // parameters switch on.
   void addObjectStage(std::unique_ptr<ObjectStage> stage);
 
   // Runs the three phases on the sweep; the sensor origin (the apex of the vision cones)
@@ -131,6 +134,8 @@ private:
   bool evidence_built_ = false;
   SamplingEstimator sampling_estimator_;
   std::vector<std::uint8_t> in_range_;  // per beam, for RemovalCounts (pipeline.cpp)
+  // The object stages the parameters switch on (parameterStages in pipeline.cpp), then the added ones.
+  std::vector<std::unique_ptr<ObjectStage>> parameter_stages_;
   std::vector<std::unique_ptr<ObjectStage>> object_stages_;
   PipelineResult result_;
 };

@@ -79,6 +79,16 @@ struct ReflectiveObject
   // phantom in the beam's direction), so the vision cone reaches that far beyond the edges.
   float footprint = 0.0f;
 
+  // The surface-echo patch: the rectangle fitted to the surface echoes (same axes), kept when a
+  // growth stage (plane_crossings.h) grew the rectangle over the part of the plane rays are seen
+  // through. Without growth, grown is false and the patch is the rectangle itself.
+  bool grown = false;
+  Eigen::Vector3f patch_centre = Eigen::Vector3f::Zero();
+  float patch_width = 0.0f;
+  float patch_height = 0.0f;
+  // The growth reached growth_max_extent on some side instead of a boundary on the plane.
+  bool growth_capped = false;
+
   // The errorSurface points the plane was fitted to.
   std::vector<PointRef> surface_inliers;
 
@@ -102,6 +112,8 @@ struct ReflectiveObject
 
   // Corners in order around the rectangle: centre -+ w/2 -+ h/2.
   std::array<Eigen::Vector3f, 4> corners() const;
+  // The same for the surface-echo patch (the rectangle's corners when it did not grow).
+  std::array<Eigen::Vector3f, 4> patchCorners() const;
 
   // Signed distance of p from the plane, positive on the sensor's side.
   float signedDistance(const Eigen::Vector3f& p) const { return plane.head<3>().dot(p) + plane[3]; }

@@ -13,6 +13,7 @@
 #include "ohm_mirror_detector3d/core/object_extraction.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
+#include "ohm_mirror_detector3d/core/plane_crossings.h"
 #include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
 
@@ -29,6 +30,7 @@ struct StageConfigs
   MixedPixelConfig mixed_pixels;
   ObjectTypeConfig object_type;
   ConeLabellingConfig cone_labelling;
+  ObjectGrowthConfig growth;  // mirror_growth.h and glass_growth.h
 };
 
 // With outlierFilter_searchRadius automatic the outlier filter, its errorSurface pass and the

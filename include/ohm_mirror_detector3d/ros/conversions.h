@@ -67,8 +67,8 @@ geometry_msgs::Point toPoint(const Eigen::Vector3f& p);
 // The colour of an object of `type` in rviz: mirror blue, glass turquoise, unknown yellow.
 std_msgs::ColorRGBA objectColour(core::ObjectType type);
 
-// A rectangle (line strip) per object coloured by type and a text with type and size,
-// preceded by a DELETEALL so that markers of objects that went away disappear.
+// A rectangle (line strip) per object coloured by type and a text with type and size (for an
+// object that grew, its surface-echo patch too, namespace "patches", thinner), preceded by a DELETEALL so that markers of objects that went away disappear.
 void toMarkers(const std_msgs::Header& header, const std::vector<core::ReflectiveObject>& objects,
                visualization_msgs::MarkerArray& markers);
 
