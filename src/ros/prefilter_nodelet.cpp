@@ -153,6 +153,11 @@ void PreFilterNodelet::onInit()
                                                       << cleaned_pub_.getTopic() << ", " << objects_pub_.getTopic()
                                                       << ", " << markers_pub_.getTopic()
                                                       << (legacy.empty() ? "" : "; the original's outputs: " + legacy));
+  // nodelet 1.10.0 (Debian 11, Noetic until 2021) disables the nodelet's callback queues while onInit
+  // runs and drops what is queued meanwhile, among it the connect callback of a subscriber that
+  // connected to an output since it was advertised: that subscriber would never subscribe the input.
+  // So look once here; where the callback does come (later nodelet), it finds the input subscribed.
+  updateSubscription();
 }
 
 void PreFilterNodelet::advertiseOutputs(const ros_io::ParamSource& source, bool every_legacy_output,
