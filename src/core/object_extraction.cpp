@@ -121,6 +121,45 @@ private:
   const std::vector<float>& zs_;
 };
 
+// Scratch of groupByRoot, kept across sweeps so that grouping allocates nothing.
+struct GroupingScratch
+{
+  std::vector<std::int32_t> group_of_root;
+  std::vector<std::uint32_t> item_group;
+  std::vector<std::uint32_t> fill;
+};
+
+// Groups items 0 .. n - 1 by their union-find root (root_of(i) < root_count): groups are numbered
+// in the order of their first item and keep their items ascending (a stable counting sort);
+// group k is members[start[k] .. start[k + 1]). Returns the number of groups.
+template <typename RootOf>
+std::size_t groupByRoot(std::uint32_t n, std::size_t root_count, RootOf root_of, GroupingScratch& scratch,
+                        std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& members)
+{
+  scratch.group_of_root.assign(root_count, -1);
+  scratch.item_group.resize(n);
+  start.assign(1, 0);
+  for (std::uint32_t i = 0; i < n; ++i)
+  {
+    const std::uint32_t root = root_of(i);
+    if (scratch.group_of_root[root] < 0)
+    {
+      scratch.group_of_root[root] = static_cast<std::int32_t>(start.size() - 1);
+      start.push_back(0);
+    }
+    scratch.item_group[i] = static_cast<std::uint32_t>(scratch.group_of_root[root]);
+    ++start[scratch.item_group[i] + 1];
+  }
+  const std::size_t groups = start.size() - 1;
+  for (std::size_t g = 0; g < groups; ++g)
+    start[g + 1] += start[g];
+  scratch.fill.assign(start.begin(), start.end() - 1);
+  members.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i)
+    members[scratch.fill[scratch.item_group[i]]++] = i;
+  return groups;
+}
+
 }  // namespace
 
 struct ObjectExtractor::Workspace
@@ -142,21 +181,16 @@ struct ObjectExtractor::Workspace
   std::vector<Eigen::Vector3f> inlier_points;  // positions of `inliers`, same order
   SpatialIndex index;                     // of inlier_points, ids their positions
   std::vector<std::uint32_t> parent;      // union-find over the index's cells
-  std::vector<std::int32_t> patch_of_root;
-  std::vector<std::uint32_t> point_patch;
   std::vector<std::uint32_t> patch_start;  // patch_count + 1 entries
-  std::vector<std::uint32_t> patch_fill;
   std::vector<std::uint32_t> patch_members;  // inlier positions grouped by patch, ascending
 
   // Connectivity on the sweep's grid: groups of candidates (positions into a member list),
   // group k is group_members[group_start[k] .. group_start[k + 1]).
   std::vector<std::int32_t> member_of_beam;  // per beam: position in the member list, or -1
   std::vector<std::uint32_t> member_parent;  // union-find over the member list
-  std::vector<std::int32_t> group_of_root;
   std::vector<std::uint32_t> group_start;
-  std::vector<std::uint32_t> group_fill;
   std::vector<std::uint32_t> group_members;
-  std::vector<std::uint32_t> member_group;
+  GroupingScratch grouping;  // of splitPatches and groupOnGrid (never in use at once)
   // The connected groups of all candidates while their planes are fitted (groupOnGrid's
   // buffers then serve the patches).
   IndexVector candidates;
@@ -314,29 +348,10 @@ std::size_t ObjectExtractor::Workspace::splitPatches(double connection_distance)
     }
   }
 
-  // Number patches by first point and group the points by patch (counting sort, stable).
-  patch_of_root.assign(cell_count, -1);
-  point_patch.resize(n);
-  patch_start.assign(1, 0);
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    const std::uint32_t root = find(index.cellOfPoint(k));
-    if (patch_of_root[root] < 0)
-    {
-      patch_of_root[root] = static_cast<std::int32_t>(patch_start.size() - 1);
-      patch_start.push_back(0);
-    }
-    point_patch[k] = static_cast<std::uint32_t>(patch_of_root[root]);
-    ++patch_start[point_patch[k] + 1];
-  }
-  const std::size_t patch_count = patch_start.size() - 1;
-  for (std::size_t p = 0; p < patch_count; ++p)
-    patch_start[p + 1] += patch_start[p];
-  patch_fill.assign(patch_start.begin(), patch_start.end() - 1);
-  patch_members.resize(n);
-  for (std::uint32_t k = 0; k < n; ++k)
-    patch_members[patch_fill[point_patch[k]]++] = k;
-  return patch_count;
+  // Number patches by first point and group the points by patch.
+  return groupByRoot(
+      static_cast<std::uint32_t>(n), cell_count, [&](std::uint32_t k) { return find(index.cellOfPoint(k)); },
+      grouping, patch_start, patch_members);
 }
 
 // Median distance from each projected point to its nearest other one: the sampling
@@ -522,28 +537,9 @@ std::size_t ObjectExtractor::Workspace::groupOnGrid(const Sweep& sweep, const Be
   for (std::uint32_t i = 0; i < n; ++i)
     member_of_beam[refs[static_cast<std::size_t>(members[i])].beam] = -1;
 
-  group_of_root.assign(n, -1);
-  member_group.resize(n);
-  group_start.assign(1, 0);
-  for (std::uint32_t i = 0; i < n; ++i)
-  {
-    const std::uint32_t root = findMember(i);
-    if (group_of_root[root] < 0)
-    {
-      group_of_root[root] = static_cast<std::int32_t>(group_start.size() - 1);
-      group_start.push_back(0);
-    }
-    member_group[i] = static_cast<std::uint32_t>(group_of_root[root]);
-    ++group_start[member_group[i] + 1];
-  }
-  const std::size_t groups = group_start.size() - 1;
-  for (std::size_t g = 0; g < groups; ++g)
-    group_start[g + 1] += group_start[g];
-  group_fill.assign(group_start.begin(), group_start.end() - 1);
-  group_members.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i)
-    group_members[group_fill[member_group[i]]++] = i;
-  return groups;
+  return groupByRoot(
+      static_cast<std::uint32_t>(n), n, [&](std::uint32_t i) { return findMember(i); }, grouping, group_start,
+      group_members);
 }
 
 // The patches of the plane's inliers connected on the grid, in splitPatches' layout.
