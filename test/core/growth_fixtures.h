@@ -2,6 +2,7 @@
 #pragma once
 
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
+#include "ohm_mirror_detector3d/core/plane_crossings.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
 #include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
@@ -26,6 +27,16 @@ struct Detected
     evidence.build(sweep, labels, Eigen::Vector3f::Zero());
   }
 };
+
+// The growth stages switched on with the defaults' cap, 5 cm plane threshold.
+inline core::ObjectGrowthConfig growthConfig()
+{
+  core::ObjectGrowthConfig config;
+  config.enabled = true;
+  config.plane_threshold = 0.05f;
+  config.max_growth = 1.5f;
+  return config;
+}
 
 // A patch (the surface-echo rectangle) on the plane x = distance, facing the origin, centred at
 // (distance, y, z), `size` across both ways.

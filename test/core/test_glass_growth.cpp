@@ -13,19 +13,11 @@ namespace ohm_mirror_detector3d
 {
 namespace
 {
+using test::growthConfig;
 using test::Panel;
 using test::Surface;
 
 constexpr float kWall = 3.0f;  // the wall the pane sits in, x = 3; a room behind it to x = 6
-
-core::ObjectGrowthConfig growthConfig()
-{
-  core::ObjectGrowthConfig config;
-  config.enabled = true;
-  config.plane_threshold = 0.05f;
-  config.max_growth = 1.5f;
-  return config;
-}
 
 // The wall x = 3 from y in [-3, 3], z in [-1, 1.5] with the openings given (y0, y1, z0, z1);
 // the rooms in front and behind.

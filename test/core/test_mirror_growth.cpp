@@ -12,20 +12,12 @@ namespace ohm_mirror_detector3d
 {
 namespace
 {
+using test::growthConfig;
 using test::Panel;
 using test::Surface;
 
 constexpr float kWall = 2.0f;     // the wall the mirror hangs on, x = 2
 constexpr float kMirror = 1.99f;  // the mirror, 1 cm in front of it
-
-core::ObjectGrowthConfig growthConfig()
-{
-  core::ObjectGrowthConfig config;
-  config.enabled = true;
-  config.plane_threshold = 0.05f;
-  config.max_growth = 1.5f;
-  return config;
-}
 
 // A 1.0 x 0.8 m mirror on the front wall of a room (y in [-0.6, 0.4], z in [-0.3, 0.5]: the
 // surface echoes near the perpendicular foot at y = z = 0 are off its centre), plus `more`.
