@@ -220,23 +220,28 @@ int main(int argc, char** argv)
                     percentile(samples[s], 0.5), percentile(samples[s], 0.95));
       std::printf("}");
       {
-        // The same sweep with extent growth on (grow_objects): the object stages' time beside
-        // the whole pipeline's, same repeats.
+        // The same sweep with extent growth on (grow_objects): the object stages' time and the
+        // reflection chains' (max_reflections as in hokuyoParams) beside the whole pipeline's,
+        // same repeats.
         core::Params grow_params = hokuyoParams();
         grow_params.grow_objects = 1;
         core::Pipeline growing(grow_params);
         for (int i = 0; i < warmup; ++i)
           growing.process(sweep, sensorContext());
-        std::vector<double> stages, totals;
+        std::vector<double> stages, chains, both, totals;
         for (int run = 0; run < runs; ++run)
         {
           const core::PipelineResult& r = growing.process(sweep, sensorContext());
           stages.push_back(r.times.object_stages);
+          chains.push_back(r.times.reflection_chains);
+          both.push_back(r.times.object_stages + r.times.reflection_chains);
           totals.push_back(r.times.total);
         }
         std::printf(", \"growth\": {\"object_stages_median_s\": %.6g, \"object_stages_p95_s\": %.6g, "
+                    "\"reflection_chains_median_s\": %.6g, \"growth_and_chains_median_s\": %.6g, "
                     "\"total_median_s\": %.6g}",
-                    percentile(stages, 0.5), percentile(stages, 0.95), percentile(totals, 0.5));
+                    percentile(stages, 0.5), percentile(stages, 0.95), percentile(chains, 0.5), percentile(both, 0.5),
+                    percentile(totals, 0.5));
       }
       if (baseline_repeats > 0)
       {

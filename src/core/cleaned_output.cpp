@@ -5,7 +5,7 @@ namespace ohm_mirror_detector3d
 namespace core
 {
 void collectCleaned(const Sweep& sweep, const SweepLabels& labels, const std::vector<ReflectiveObject>& objects,
-                    const ObjectAssignment& assignment, std::vector<OutputPoint>& cleaned)
+                    const ReflectionPaths& paths, std::vector<OutputPoint>& cleaned)
 {
   cleaned.clear();
   const std::size_t beams = sweep.beamCount();
@@ -19,10 +19,7 @@ void collectCleaned(const Sweep& sweep, const SweepLabels& labels, const std::ve
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
       if (k == 1 && p == sweep.echoes[0].points[i] && keptInCleaned(labels.echoes[0][i]))
         continue;
-      const Eigen::Vector3f position =
-          label == Label::behindReflective ?
-              objects.at(static_cast<std::size_t>(assignment.echoes[k][i])).reflect(p) :
-              p;
+      const Eigen::Vector3f position = label == Label::behindReflective ? paths.backProject(objects, k, i, p) : p;
       cleaned.push_back(OutputPoint{ position, sweep.echoes[k].intensities[i], label,
                                      static_cast<std::uint8_t>(k + 1), static_cast<std::uint32_t>(i) });
     }

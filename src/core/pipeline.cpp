@@ -106,6 +106,7 @@ Pipeline::Stages::Stages(const StageConfigs& configs)
   , mixed_pixels(configs.mixed_pixels)
   , type_analyzer(configs.object_type)
   , cone_labelling(configs.cone_labelling)
+  , reflection_chains(configs.reflection_chains)
   , min_object_points(static_cast<std::size_t>(configs.object_extraction.min_object_points))
 {
 }
@@ -219,7 +220,10 @@ void Pipeline::label(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, S
   const ReflectionEvidence& sweep_evidence = r.objects.empty() ? evidence_ : evidence(sweep, sensor_origin);
   stages_.cone_labelling.apply(sweep, sensor_origin, sweep_evidence, r.objects, r.labels, r.assignment);
   r.times.cone_labelling = clock.lap();
-  collectCleaned(sweep, r.labels, r.objects, r.assignment, r.cleaned);
+  r.reflection_chains = stages_.reflection_chains.apply(sweep, sensor_origin, sweep_evidence, r.objects, r.assignment,
+                                                        r.labels, r.paths);
+  r.times.reflection_chains = clock.lap();
+  collectCleaned(sweep, r.labels, r.objects, r.paths, r.cleaned);
   r.times.cleaned_output = clock.lap();
 }
 

@@ -66,6 +66,9 @@ StageConfigs stageConfigs(const Params& params)
   configs.growth.enabled = params.grow_objects != 0;
   configs.growth.plane_threshold = static_cast<float>(params.plane_threshold);
   configs.growth.max_growth = static_cast<float>(params.growth_max_extent);
+  configs.reflection_chains.max_reflections = params.max_reflections;
+  configs.reflection_chains.plane_threshold = static_cast<float>(params.plane_threshold);
+  configs.reflection_chains.cone_margin = static_cast<float>(params.vision_cone_margin);
   return configs;
 }
 

@@ -1,10 +1,12 @@
-"""The paper's method (grow_objects 0: an object is its surface-echo patch) beside extent growth
-(grow_objects 1) on the same sweeps: the scenes and figures of issue 16.
+"""The paper's method (grow_objects 0: an object is its surface-echo patch; max_reflections 0: a
+phantom is reflected across its first mirror only) beside extent growth (grow_objects 1) and
+growth with reflection chains (max_reflections 3) on the same sweeps: the scenes and figures of
+issue 16.
 
 Each scene is simulated once (rotating Hokuyo, `scans` scans per half rotation, range noise 1 cm,
-realistic physics unless told otherwise, noise seed 1) and filtered twice through the C++ core
+realistic physics unless told otherwise, noise seed 1) and filtered through the C++ core
 (core.Pipeline, the nodelet's code) in the `pair` input mode, with the parameters given (default:
-launch/rotating_hokuyo_params.yaml) and grow_objects 0, then 1. Per scene and setting:
+launch/rotating_hokuyo_params.yaml) in each setting of SETTINGS. Per scene and setting:
 
 * phantoms left in `cleaned` at a wrong place (> 5 cm), of all phantoms (double echo or not);
 * per ground-truth mirror or pane: the detected rectangle's width and height against the truth
@@ -32,6 +34,8 @@ from .simulate import SweepSimulator, ground_truth_objects
 MIRROR_SCENES = ('facing_tall_mirrors', 'wall_mirror', 'experiment3')
 GLASS_SCENES = ('pane_in_wall', 'experiment2')
 PLAIN_SCENES = ('empty_room', 'office', 'doorway_room')
+# (name, grow_objects, max_reflections): the paper's method, growth, growth with reflection chains.
+SETTINGS = (('off', 0, 0), ('on', 1, 0), ('on+chains', 1, 3))
 SCENES = MIRROR_SCENES + GLASS_SCENES + PLAIN_SCENES
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEFAULT_PARAMS = os.path.join(REPO, 'launch', 'rotating_hokuyo_params.yaml')
@@ -79,14 +83,17 @@ def score(scene_name, sweep, pipeline, reflective):
 
 
 def run(scene_names=SCENES, scans=400, params=None, physics=None, seed=1):
+    """One dict per scene: setting name -> score."""
     base = params if params is not None else core.Params.from_yaml(DEFAULT_PARAMS)
-    pipelines = {grow: core.Pipeline(dataclasses.replace(base, grow_objects=grow)) for grow in (0, 1)}
+    pipelines = {setting: core.Pipeline(dataclasses.replace(base, grow_objects=grow, max_reflections=reflections))
+                 for setting, grow, reflections in SETTINGS}
     rows = []
     for name in scene_names:
         scene = scenes.get(name)
         hokuyo = scanners.preset('hokuyo_utm30lx_ew', scans=scans, range_noise=NOISE)
         sweep = SweepSimulator(scene, hokuyo, physics).sweep(seed=seed)
-        rows.append({grow: score(name, sweep, pipelines[grow], bool(scene.objects())) for grow in (0, 1)})
+        rows.append({setting: score(name, sweep, pipeline, bool(scene.objects()))
+                     for setting, pipeline in pipelines.items()})
     return rows
 
 
@@ -101,26 +108,33 @@ def _sides(entry):
 
 
 def markdown(rows):
-    lines = ['| scene | phantoms | left at a wrong place, off → on | real lost, off → on | behind glass labelled, '
-             'off → on | objects (truth → off → on, m) | objects in a plain scene, off → on |',
+    names = [setting for setting, _, _ in SETTINGS]
+    arrow = ' → '.join(names)
+    lines = ['| scene | phantoms | left at a wrong place, %s | real lost, %s | behind glass labelled, %s | '
+             'objects (truth → %s, m) | objects in a plain scene, %s |' % ((arrow,) * 5),
              '|---|---|---|---|---|---|---|']
     for row in rows:
-        off, on = row[0], row[1]
-        sizes = '; '.join('%s %.2f × %.2f → %s → %s' % (a['name'], a['truth'][0], a['truth'][1], _sides(a), _sides(b))
-                          for a, b in zip(off['objects'], on['objects']))
-        plain = '%d → %d' % (off['false_objects'], on['false_objects']) if off['scene'] in PLAIN_SCENES else ''
-        lines.append('| %s | %d | %s → %s | %s → %s | %s → %s | %s | %s |' % (
-            off['scene'], off['phantoms'], _percent(off['phantom_wrong_place_fraction']),
-            _percent(on['phantom_wrong_place_fraction']), _percent(off['real_lost_fraction']),
-            _percent(on['real_lost_fraction']), _percent(off['behind_glass_labelled']),
-            _percent(on['behind_glass_labelled']), sizes or '–', plain))
+        by = [row[name] for name in names]
+        first = by[0]
+
+        def each(key, form=_percent):
+            return ' → '.join(form(r[key]) for r in by)
+
+        sizes = '; '.join('%s %.2f × %.2f → %s' % (matches[0]['name'], matches[0]['truth'][0], matches[0]['truth'][1],
+                                                   ' → '.join(_sides(m) for m in matches))
+                          for matches in zip(*(r['objects'] for r in by)))
+        plain = each('false_objects', str) if first['scene'] in PLAIN_SCENES else ''
+        lines.append('| %s | %d | %s | %s | %s | %s | %s |' % (
+            first['scene'], first['phantoms'], each('phantom_wrong_place_fraction'), each('real_lost_fraction'),
+            each('behind_glass_labelled'), sizes or '–', plain))
     return '\n'.join(lines)
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('--scans', type=int, default=400, help="the Hokuyo's scans per half rotation")
-    p.add_argument('--params', default=DEFAULT_PARAMS, help='parameter file (grow_objects is set to 0, then 1)')
+    p.add_argument('--params', default=DEFAULT_PARAMS,
+                   help='parameter file (grow_objects and max_reflections are set as SETTINGS says)')
     p.add_argument('--scenes', default=','.join(SCENES), help='comma-separated scene names')
     p.add_argument('--physics', choices=('realistic', 'ideal'), default='realistic')
     p.add_argument('--out', help='directory for growth.md and growth.json')
@@ -134,7 +148,7 @@ def main(argv=None):
         with open(os.path.join(args.out, 'growth.md'), 'w') as f:
             f.write(text + '\n')
         with open(os.path.join(args.out, 'growth.json'), 'w') as f:
-            json.dump([{'off': r[0], 'on': r[1]} for r in rows], f, indent=1)
+            json.dump(rows, f, indent=1)
     return 0
 
 

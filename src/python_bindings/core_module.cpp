@@ -295,10 +295,13 @@ py::dict statsOf(const core::PipelineResult& r, const core::Params& params)
   stage_seconds["type_analysis"] = r.times.type_analysis;
   stage_seconds["object_stages"] = r.times.object_stages;
   stage_seconds["cone_labelling"] = r.times.cone_labelling;
+  stage_seconds["reflection_chains"] = r.times.reflection_chains;
   stage_seconds["cleaned_output"] = r.times.cleaned_output;
   stats["stage_seconds"] = stage_seconds;
   stats["released_surface_beams"] = r.released_surface_beams;
   stats["mixed_pixel_beams"] = r.mixed_pixel_beams;
+  stats["multiply_reflected_phantoms"] = r.reflection_chains.multiply_reflected;
+  stats["unexplained_phantoms"] = r.reflection_chains.unexplained;
   // A stage that removed an implausible share of the sweep, in words (core/removal_report.h).
   py::list warnings;
   for (const std::string& warning : core::removalWarnings(r.removals, params))

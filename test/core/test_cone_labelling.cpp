@@ -2,6 +2,7 @@
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/reflection_chains.h"
 #include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 #include "object_fixtures.h"
@@ -251,6 +252,20 @@ TEST(ConeLabelling, CountsSurfaceAndBehindPointsAndAveragesSurfaceIntensity)
   EXPECT_FLOAT_EQ(objects[0].mean_surface_intensity, 15.0f);
 }
 
+// The cleaned output after the reflection chains (default parameters), as the pipeline runs them.
+std::vector<core::OutputPoint> cleanedOf(const core::Sweep& sweep, const std::vector<core::ReflectiveObject>& objects,
+                                         Labelled& out)
+{
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, out.labels, Eigen::Vector3f::Zero());
+  core::ReflectionPaths paths;
+  core::ReflectionChains(core::stageConfigs(core::Params()).reflection_chains)
+      .apply(sweep, Eigen::Vector3f::Zero(), evidence, objects, out.assignment, out.labels, paths);
+  std::vector<core::OutputPoint> cleaned;
+  core::collectCleaned(sweep, out.labels, objects, paths, cleaned);
+  return cleaned;
+}
+
 TEST(CleanedOutput, BackProjectsPhantomsAcrossTheirOwnMirror)
 {
   // Two mirrors side by side; each phantom reflects across its own plane.
@@ -264,8 +279,7 @@ TEST(CleanedOutput, BackProjectsPhantomsAcrossTheirOwnMirror)
   Labelled out = label(sweep, objects, { { Label::errorSurface, Label::error }, { Label::errorSurface, Label::error } });
   ASSERT_EQ(out.labels.echoes[1][0], Label::behindReflective);
   ASSERT_EQ(out.labels.echoes[1][1], Label::behindReflective);
-  std::vector<core::OutputPoint> cleaned;
-  core::collectCleaned(sweep, out.labels, objects, out.assignment, cleaned);
+  const std::vector<core::OutputPoint> cleaned = cleanedOf(sweep, objects, out);
   ASSERT_EQ(cleaned.size(), 4u);
   EXPECT_TRUE(cleaned[1].position.isApprox(Eigen::Vector3f(1.0f, 1.5f, 0.0f)));
   EXPECT_EQ(cleaned[1].label, Label::behindReflective);
@@ -279,8 +293,7 @@ TEST(CleanedOutput, KeepsPointsBehindGlassInPlace)
   std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass) };
   const core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.0f, 0.0f }, { 3.0f, 0.0f, 0.0f } } });
   Labelled out = label(sweep, objects, { { Label::errorSurface, Label::error } });
-  std::vector<core::OutputPoint> cleaned;
-  core::collectCleaned(sweep, out.labels, objects, out.assignment, cleaned);
+  const std::vector<core::OutputPoint> cleaned = cleanedOf(sweep, objects, out);
   ASSERT_EQ(cleaned.size(), 2u);
   EXPECT_EQ(cleaned[1].label, Label::behindTransparent);
   EXPECT_TRUE(cleaned[1].position.isApprox(Eigen::Vector3f(3.0f, 0.0f, 0.0f)));

@@ -82,7 +82,8 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.object_type.icp_min_inlier_fraction != before.object_type.icp_min_inlier_fraction ||
         after.cone_labelling.plane_threshold != before.cone_labelling.plane_threshold ||
         after.cone_labelling.cone_margin != before.cone_labelling.cone_margin ||
-        after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth;
+        after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth ||
+        after.reflection_chains.max_reflections != before.reflection_chains.max_reflections;
     EXPECT_TRUE(differs) << param.name << " reaches no stage";
   }
 }

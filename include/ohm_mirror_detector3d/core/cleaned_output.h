@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/reflection_chains.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
@@ -24,12 +24,12 @@ struct OutputPoint
 
 // Fills `cleaned` (cleared first, capacity kept) with every point whose label is kept
 // for mapping, in beam order, echo 1 before echo 2; a behindReflective point is
-// back-projected (reflected) across the plane of its own mirror (assignment) to where the
-// object it shows really is. A single-return beam that repeats its return in echo 2 (same position,
-// as the Hokuyo3D driver and the simulator publish it) contributes it once, so mapping
-// does not count it twice.
+// back-projected to where the object it shows really is: reflected across the mirrors of its
+// chain (paths, reflection_chains.h) in order. A single-return beam that repeats its return in
+// echo 2 (same position, as the Hokuyo3D driver and the simulator publish it) contributes it
+// once, so mapping does not count it twice.
 void collectCleaned(const Sweep& sweep, const SweepLabels& labels, const std::vector<ReflectiveObject>& objects,
-                    const ObjectAssignment& assignment, std::vector<OutputPoint>& cleaned);
+                    const ReflectionPaths& paths, std::vector<OutputPoint>& cleaned);
 
 }  // namespace core
 }  // namespace ohm_mirror_detector3d

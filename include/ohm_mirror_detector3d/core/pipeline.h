@@ -5,7 +5,8 @@
 //   object stages: an ordered list of optional stages on whole objects (object_stage.h): first
 //     those the parameters switch on (grow_objects: mirror_growth.h, glass_growth.h), built
 //     here from Params for every front end alike, then any added with addObjectStage;
-//   label: cone labelling, cleaned output with back-projection.
+//   label: cone labelling, reflection chains (where each phantom really is, reflection_chains.h),
+//     cleaned output with back-projection.
 // The stages are built from Params (stage_configs.h), each with only its own values; the
 // pipeline owns their buffers and reuses them from sweep to sweep.
 #pragma once
@@ -25,6 +26,7 @@
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
 #include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
+#include "ohm_mirror_detector3d/core/reflection_chains.h"
 #include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
 #include "ohm_mirror_detector3d/core/removal_report.h"
@@ -49,13 +51,14 @@ struct StageTimes
   double type_analysis = 0.0;
   double object_stages = 0.0;       // all of them
   double cone_labelling = 0.0;
+  double reflection_chains = 0.0;
   double cleaned_output = 0.0;
   double total = 0.0;               // the whole process call
 
   double sumOfStages() const
   {
     return sampling + range_gate + outlier_filter + echo_comparison + object_extraction + type_analysis +
-           object_stages + cone_labelling + cleaned_output;
+           object_stages + cone_labelling + reflection_chains + cleaned_output;
   }
 };
 
@@ -63,6 +66,8 @@ struct PipelineResult
 {
   SweepLabels labels;
   ObjectAssignment assignment;             // object of each surface/behind point
+  ReflectionPaths paths;                   // the chain of mirrors of each phantom (behindReflective)
+  ReflectionChainCounts reflection_chains; // phantoms reflected more than once, and those none explains
   std::vector<ReflectiveObject> objects;
   std::vector<OutputPoint> cleaned;
   SweepSampling sampling;                  // the sweep's grid and angular steps, as worked out
@@ -112,6 +117,7 @@ private:
     MixedPixels mixed_pixels;
     ObjectTypeAnalyzer type_analyzer;
     ConeLabelling cone_labelling;
+    ReflectionChains reflection_chains;
     // The object extraction's n_object: with fewer errorSurface points detect skips the
     // errorSurface pass and object extraction, since they cannot make an object (mixed pixels
     // are still looked for among them).

@@ -16,6 +16,7 @@
 #include "ohm_mirror_detector3d/core/plane_crossings.h"
 #include "ohm_mirror_detector3d/core/params.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
+#include "ohm_mirror_detector3d/core/reflection_chains.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -31,6 +32,7 @@ struct StageConfigs
   ObjectTypeConfig object_type;
   ConeLabellingConfig cone_labelling;
   ObjectGrowthConfig growth;  // mirror_growth.h and glass_growth.h
+  ReflectionChainConfig reflection_chains;
 };
 
 // With outlierFilter_searchRadius automatic the outlier filter, its errorSurface pass and the
