@@ -7,7 +7,9 @@ on /tf, must build one map object in the fixed frame (map, through the static ma
 keeps its id, grows from sweep to sweep and stays glass, published on ~map_objects and
 ~map_evidence. A sweep whose pose tf does not have is processed single-sweep (its outputs come)
 and the map stays as it was. ~save_map writes the map; ~load_map of a corrupt file answers with the
-problem and empties the map; loading the saved file brings it back.
+problem and empties the map; loading the saved file brings it back. Two more nodelets on the same
+input start from map files (parameter map_file): a good one keeps its object (id 7) and hands out
+ids from its next_id on, a corrupt one starts with an empty map.
 """
 import os
 import tempfile
@@ -39,11 +41,14 @@ class PostFilter(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.outputs = {}
-        cls.subscribers = [rospy.Subscriber('prefilter/' + topic, kind, cls.on_output, callback_args=topic,
+        cls.subscribers = [rospy.Subscriber(node + '/' + topic, kind, cls.on_output, callback_args=name,
                                             queue_size=10)
+                           for node, prefix in (('prefilter', ''), ('prefilter_known', 'known_'),
+                                                ('prefilter_corrupt', 'corrupt_'))
                            for topic, kind in (('objects', ReflectiveObjectArray),
                                                ('map_objects', ReflectiveObjectArray),
-                                               ('map_evidence', ObjectMapEvidence))]
+                                               ('map_evidence', ObjectMapEvidence))
+                           for name in (prefix + topic,)]
         cls.publisher = rospy.Publisher('prefilter/input', EchoPair, queue_size=1)
         cls.tf = tf2_ros.TransformBroadcaster()
         scene = scenes.get('pane_in_wall')
@@ -54,7 +59,7 @@ class PostFilter(unittest.TestCase):
         cls.sweeps = [simulate_sweep(scene, RotatingHokuyo(scans=200, range_noise=0.01), seed=k, pose=pose)
                       for k, pose in enumerate(cls.poses)]
         deadline = rospy.Time.now() + rospy.Duration(30)
-        while cls.publisher.get_num_connections() == 0 and rospy.Time.now() < deadline:
+        while cls.publisher.get_num_connections() < 3 and rospy.Time.now() < deadline:
             rospy.sleep(0.1)
         # Each sweep in order: with its pose (map answers) and one without (no map answer).
         cls.answers = [cls.send(sweep, pose) for sweep, pose in zip(cls.sweeps, cls.poses)]
@@ -65,7 +70,8 @@ class PostFilter(unittest.TestCase):
         cls.outputs.setdefault(msg.header.stamp, {})[topic] = msg
 
     @classmethod
-    def send(cls, sweep, pose, wait_for=('objects', 'map_objects', 'map_evidence'), timeout=60.0):
+    def send(cls, sweep, pose, wait_for=('objects', 'map_objects', 'map_evidence', 'known_map_objects',
+                                         'corrupt_map_objects'), timeout=60.0):
         stamp = rospy.Time.now()
         if pose is not None:
             t = TransformStamped()
@@ -114,6 +120,16 @@ class PostFilter(unittest.TestCase):
         widths = [o.width for o in self.without_pose['objects'].objects]
         self.assertEqual(len(widths), 1, widths)
         self.assertLess(widths[0], self.answers[-1]['map_objects'].objects[0].width - 0.1)
+
+    def test_a_map_file_is_loaded_at_start_and_a_corrupt_one_gives_an_empty_map(self):
+        first = self.answers[0]
+        known = first['known_map_objects']
+        self.assertEqual([o.id for o in known.objects], [7, 8])
+        self.assertEqual(known.objects[0].type, known.objects[0].TYPE_GLASS)
+        self.assertAlmostEqual(known.objects[0].width, 0.1, places=4)
+        self.assertEqual(list(first['known_map_evidence'].sweeps_seen), [4, 1])
+        corrupt = first['corrupt_map_objects']
+        self.assertEqual([o.id for o in corrupt.objects], [0])
 
     def test_the_map_is_saved_and_loaded_and_a_corrupt_file_empties_it(self):
         save = rospy.ServiceProxy('prefilter/save_map', MapFile)
