@@ -138,7 +138,7 @@ void ObjectMap::join(MapObject& kept, const MapObject& joined) const
 void ObjectMap::observe(const std::vector<ReflectiveObject>& objects, const Eigen::Isometry3d& fixed_from_sweep,
                         std::vector<std::uint32_t>& merged_ids)
 {
-  merged_ids.assign(objects.size(), 0);
+  merged_ids.assign(objects.size(), kNotMerged);
   std::vector<Sighting> sightings;
   const Eigen::Matrix3d rotation = fixed_from_sweep.linear();
   const double min_alignment = std::cos(config_.merge_angle);

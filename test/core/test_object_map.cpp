@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -149,6 +150,12 @@ TEST(ObjectMap, KeepsApartWhatLiesOnAnotherPlaneOrBeyondTheGap)
   map.observe({ patch(3.0f, -0.9f, 0.5f, 0.4f, 0.4f, ObjectType::mirror) }, Eigen::Isometry3d::Identity(), ids);
   ASSERT_EQ(map.objects().size(), 3u);
   EXPECT_EQ(ids[0], 2u);
+  // A broken plane is not placed (and does not take an id).
+  core::ReflectiveObject broken = patch(3.0f, 0.0f, 0.5f, 0.4f, 0.4f, ObjectType::mirror);
+  broken.plane[0] = std::numeric_limits<float>::quiet_NaN();
+  map.observe({ broken }, Eigen::Isometry3d::Identity(), ids);
+  EXPECT_EQ(ids[0], core::ObjectMap::kNotMerged);
+  EXPECT_EQ(map.objects().size(), 3u);
   // Turned by 30 degrees about z at the same place: not coplanar.
   core::ReflectiveObject turned = patch(3.0f, 0.0f, 0.5f, 0.4f, 0.4f, ObjectType::mirror);
   const Eigen::Vector3f normal = Eigen::AngleAxisf(0.52f, Eigen::Vector3f::UnitZ()) * Eigen::Vector3f(-1, 0, 0);

@@ -77,8 +77,12 @@ public:
   // Takes `objects` as the map (a loaded file); ids from `next_id` on are new.
   void assign(std::vector<MapObject> objects, std::uint32_t next_id);
 
+  // merged_ids of a sweep object that could not be placed (a non-finite plane).
+  static constexpr std::uint32_t kNotMerged = 0xffffffffu;
+
   // Merges the sweep's objects (in the sweep's frame, which is `fixed_from_sweep` in the fixed
-  // frame) into the map; `merged_ids[k]` is the id of the map object object k is part of now.
+  // frame) into the map; `merged_ids[k]` is the id of the map object object k is part of now
+  // (kNotMerged for one that could not be placed).
   void observe(const std::vector<ReflectiveObject>& objects, const Eigen::Isometry3d& fixed_from_sweep,
                std::vector<std::uint32_t>& merged_ids);
 
