@@ -7,7 +7,8 @@ size uses the parameters of launch/rotating_hokuyo_params.yaml (outlier radius 0
 The sweeps go to a temporary directory as binary files (int64 rows, cols; echo 1 and echo 2 as N x 4
 float32 x y z intensity) and bench_pipeline times each one in a process of its own (so that peak RSS is
 per sweep). In the same process the same sweep runs again with grow_objects 1 (extent growth: the object
-stages' time is reported beside the total). Right after ours, the PCL baseline (bench/pcl_baseline.cpp: the same
+stages' time is reported beside the total), and with post_filter 1 against a map of 20 objects (the
+post-filter stage, the cone labelling and the total beside the single-sweep total). Right after ours, the PCL baseline (bench/pcl_baseline.cpp: the same
 stages with PCL's generic tools) is timed on the same sweep, with few repeats because it is slow (--baseline-repeats;
 1 at the big sizes), and the ratio baseline/ours is reported. Then the resident set after 100 and after 10,000 sweeps
 of 1080 x 100 with objects through one pipeline (--rss-sweeps). Last, the latency of the real nodelet in a
@@ -107,6 +108,23 @@ def extent_growth_table(results):
                 1e3 * g['object_stages_p95_s'], 1e3 * g['reflection_chains_median_s'],
                 1e3 * g['growth_and_chains_median_s'], 1e3 * g['total_median_s'],
                 1e3 * r['stages']['total']['median_s']))
+    return '\n'.join(lines)
+
+
+def post_filter_table(results):
+    """The post-filter (post_filter 1) against a map of 20 objects: its stage, the cone labelling with
+    the map's objects, the whole pipeline, beside the pipeline without it."""
+    lines = ['| size | scene | map objects | labelling objects | post-filter stage median ms | p95 ms '
+             '| cone labelling median ms | total median ms | total without median ms | cost per sweep ms |',
+             '|---|---|---|---|---|---|---|---|---|---|']
+    for r in results:
+        p = r.get('post_filter')
+        if p:
+            without = r['stages']['total']['median_s']
+            lines.append('| %s | %s | %d | %d | %.2f | %.2f | %.1f | %.1f | %.1f | %.1f |' % (
+                r['size'], r['scene'], p['map_objects'], p['labelling_objects'], 1e3 * p['object_stages_median_s'],
+                1e3 * p['object_stages_p95_s'], 1e3 * p['cone_labelling_median_s'], 1e3 * p['total_median_s'],
+                1e3 * without, 1e3 * (p['total_median_s'] - without)))
     return '\n'.join(lines)
 
 
@@ -257,6 +275,8 @@ def main():
     print('\nExtent growth (grow_objects 1: mirror and glass growth) and reflection chains, the same sweeps and '
           'repeats:\n')
     print(extent_growth_table(results))
+    print('\nPost-filter (post_filter 1, a map of 20 objects around the sensor), the same sweeps and repeats:\n')
+    print(post_filter_table(results))
     print('\nGrowth (median time per beam, RotatingHokuyo 1080 x R; exponent k of t ~ N^k):\n')
     for scene, g in report['growth'].items():
         print('- %s: %s us/beam at %s beams, k = %.2f'

@@ -2,6 +2,7 @@
 
 #include "ohm_mirror_detector3d/core/glass_growth.h"
 #include "ohm_mirror_detector3d/core/mirror_growth.h"
+#include "ohm_mirror_detector3d/core/post_filter.h"
 
 #include <chrono>
 #include <stdexcept>
@@ -63,7 +64,8 @@ void countRemoved(const std::vector<std::uint8_t>& marks, const SweepLabels& lab
 
 // The object stages the parameters switch on, in the order they run: the one place where the
 // nodelet, prefilter_bag and the Python API get them from.
-std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& configs)
+// The post-filter comes last: it merges what the sweep grew.
+std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& configs, ObjectMap& object_map)
 {
   std::vector<std::unique_ptr<ObjectStage>> stages;
   if (configs.growth.enabled)
@@ -71,6 +73,8 @@ std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& co
     stages.push_back(std::make_unique<MirrorGrowth>(configs.growth));
     stages.push_back(std::make_unique<GlassGrowth>(configs.growth));
   }
+  if (configs.object_map.enabled)
+    stages.push_back(std::make_unique<PostFilter>(object_map));
   return stages;
 }
 }  // namespace
@@ -115,7 +119,8 @@ Pipeline::Pipeline(const Params& params)
   : params_(checked(params))
   , configs_(stageConfigs(params_))
   , stages_(configs_)
-  , parameter_stages_(parameterStages(configs_))
+  , object_map_(configs_.object_map)
+  , parameter_stages_(parameterStages(configs_, object_map_))
 {
 }
 
@@ -124,7 +129,8 @@ void Pipeline::setParams(const Params& params)
   StageConfigs configs = stageConfigs(checked(params));
   Stages stages(configs);
   stages_ = std::move(stages);
-  parameter_stages_ = parameterStages(configs);
+  object_map_.setConfig(configs.object_map);
+  parameter_stages_ = parameterStages(configs, object_map_);
   configs_ = configs;
   params_ = params;
 }
@@ -204,9 +210,9 @@ const ReflectionEvidence& Pipeline::evidence(const Sweep& sweep, const Eigen::Ve
 void Pipeline::runObjectStages(const Sweep& sweep, const SweepContext& context, StageClock& clock)
 {
   // The parameters' stages work on the objects found (without one the evidence is not built
-  // for them); an added stage may also add objects.
-  if (!result_.objects.empty())
-    for (const std::unique_ptr<ObjectStage>& stage : parameter_stages_)
+  // for them) unless they add objects themselves; an added stage may always add objects.
+  for (const std::unique_ptr<ObjectStage>& stage : parameter_stages_)
+    if (!result_.objects.empty() || stage->runsWithoutObjects())
       stage->process(sweep, context, evidence(sweep, context.sensorOrigin()), result_.labels, result_.objects);
   for (const std::unique_ptr<ObjectStage>& stage : object_stages_)
     stage->process(sweep, context, evidence(sweep, context.sensorOrigin()), result_.labels, result_.objects);

@@ -69,6 +69,15 @@ StageConfigs stageConfigs(const Params& params)
   configs.reflection_chains.max_reflections = params.max_reflections;
   configs.reflection_chains.plane_threshold = static_cast<float>(params.plane_threshold);
   configs.reflection_chains.cone_margin = static_cast<float>(params.vision_cone_margin);
+  configs.object_map.enabled = params.post_filter != 0;
+  configs.object_map.merge_distance = params.map_merge_distance;
+  configs.object_map.merge_angle = params.map_merge_angle * M_PI / 180.0;
+  configs.object_map.merge_gap = params.map_merge_gap;
+  configs.object_map.cell_size = params.map_cell_size;
+  configs.object_map.forgetting = params.map_forgetting;
+  configs.object_map.type_log_odds = params.map_type_log_odds;
+  configs.object_map.plane_threshold = params.plane_threshold;
+  configs.object_map.max_range = params.max_range;
   return configs;
 }
 

@@ -293,22 +293,24 @@ class Pipeline:
         self._pipeline.set_params(resolved.to_core())
         self._params = resolved
 
-    def filter(self, echo1, echo2, intensity1=None, intensity2=None) -> FilterResult:
+    def filter(self, echo1, echo2, intensity1=None, intensity2=None, pose=None) -> FilterResult:
         """Two index-aligned echoes (input modes pair / two_topics): point i of echo1 and point i of
-        echo2 are the same beam. Intensities default to the `intensity` field of structured input."""
+        echo2 are the same beam. Intensities default to the `intensity` field of structured input.
+        pose: with post_filter=1, the sweep's place in the fixed frame (a 4 x 4 rigid transform,
+        fixed_from_sweep); without it the sweep is processed single-sweep."""
         echo1, own1 = _points_of(echo1, 'echo1')
         echo2, own2 = _points_of(echo2, 'echo2')
         intensity1 = own1 if intensity1 is None else intensity1
         intensity2 = own2 if intensity2 is None else intensity2
-        labelled, cleaned, objects, stats = self._pipeline.filter_pair(echo1, echo2, intensity1, intensity2)
+        labelled, cleaned, objects, stats = self._pipeline.filter_pair(echo1, echo2, intensity1, intensity2, pose)
         grid = echo1.shape[:-1] if echo1.ndim == 3 else (echo1.shape[0],)
         return FilterResult('pair', labelled, cleaned, objects, stats, (2,) + tuple(grid))
 
-    def filter_dual_return(self, points, returns=None, rings=None, intensities=None) -> FilterResult:
+    def filter_dual_return(self, points, returns=None, rings=None, intensities=None, pose=None) -> FilterResult:
         """One cloud holding both returns of every beam (input mode dual_return): `returns` (1/2 or
         0/1) and `rings` per point; a structured `points` array may carry them as fields
         (return / return_type / echo, ring / channel). Echoes are paired per ring and azimuth bin
-        of azimuth_resolution_deg; `labelled` keeps the input's order."""
+        of azimuth_resolution_deg; `labelled` keeps the input's order. pose: as for filter()."""
         fields = points.dtype.names if isinstance(points, np.ndarray) and points.dtype.names else ()
         if returns is None:
             returns = next((points[f] for f in ('return', 'return_type', 'echo') if f in fields), None)
@@ -320,8 +322,28 @@ class Pipeline:
         points, own = _points_of(points, 'points')
         intensities = own if intensities is None else intensities
         labelled, cleaned, objects, stats = self._pipeline.filter_dual_return(
-            points, returns, rings, intensities, float(self._params.azimuth_resolution_deg))
+            points, returns, rings, intensities, float(self._params.azimuth_resolution_deg), pose)
         return FilterResult('dual_return', labelled, cleaned, objects, stats, (len(labelled),))
+
+    def map_objects(self, viewpoint=(0.0, 0.0, 0.0)):
+        """The post-filter's object map in the fixed frame: object dicts (as FilterResult.objects,
+        stable ids, the bounding rectangle of each object's extent) with sweeps_seen and
+        mirror_log_odds; plane normals point towards `viewpoint`."""
+        return self._pipeline.map_objects([float(v) for v in viewpoint])
+
+    def save_map(self, path, fixed_frame):
+        """Writes the object map as YAML (the nodelet's ~save_map format); raises OSError with
+        the problem."""
+        problem = self._pipeline.save_map(str(path), str(fixed_frame))
+        if problem:
+            raise OSError(problem)
+
+    def load_map(self, path, fixed_frame):
+        """Replaces the object map by a file's; a file that cannot be read or does not fit raises
+        ValueError and leaves the map empty."""
+        problem = self._pipeline.load_map(str(path), str(fixed_frame))
+        if problem:
+            raise ValueError(problem)
 
 
 def filter_pair(echo1, echo2, intensity1=None, intensity2=None, params=None, **overrides) -> FilterResult:

@@ -27,6 +27,7 @@
 #include "ohm_mirror_detector3d/core/dual_return.h"
 #include "ohm_mirror_detector3d/core/labels.h"
 #include "ohm_mirror_detector3d/core/legacy_values.h"
+#include "ohm_mirror_detector3d/core/object_map_file.h"
 #include "ohm_mirror_detector3d/core/output_records.h"
 #include "ohm_mirror_detector3d/core/param_table.h"
 #include "ohm_mirror_detector3d/core/params.h"
@@ -325,6 +326,31 @@ py::list objectList(const std::vector<core::ReflectiveObject>& objects)
   return list;
 }
 
+// A sweep's context from Python: no stamp or frame (the points are in the scanner's frame), and
+// with `pose` (a 4 x 4 rigid transform, fixed_from_sweep) its place in the post-filter's fixed frame.
+core::SweepContext contextWithPose(const py::object& pose)
+{
+  core::SweepContext context;
+  if (pose.is_none())
+    return context;
+  const py::array_t<double, py::array::c_style | py::array::forcecast> matrix(pose);
+  if (matrix.ndim() != 2 || matrix.shape(0) != 4 || matrix.shape(1) != 4)
+    throw py::value_error("pose must be a 4 x 4 matrix (fixed_from_sweep), not of shape " +
+                          std::string(py::str(py::object(pose.attr("shape")))));
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      m(r, c) = matrix.at(r, c);
+  const Eigen::Matrix3d rotation = m.topLeftCorner<3, 3>();
+  if (!m.allFinite() || !(rotation * rotation.transpose()).isIdentity(1e-6) || rotation.determinant() < 0.0 ||
+      !m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)))
+    throw py::value_error("pose must be a rigid transform: an orthonormal rotation (determinant 1), a "
+                          "translation, last row [0, 0, 0, 1]");
+  context.has_fixed_pose = true;
+  context.fixed_from_sweep.matrix() = m;
+  return context;
+}
+
 // The pipeline and its reused sweep. One call at a time per object (a mutex, taken with the
 // GIL released so that other Python threads run meanwhile).
 class PythonPipeline
@@ -349,8 +375,9 @@ public:
 
   // Two index-aligned echoes (input modes pair / two_topics).
   py::tuple filterPair(const py::object& echo1, const py::object& echo2, const py::object& intensity1,
-                       const py::object& intensity2)
+                       const py::object& intensity2, const py::object& pose)
   {
+    const core::SweepContext context = contextWithPose(pose);
     std::size_t rows1 = 0, cols1 = 0, rows2 = 0, cols2 = 0;
     const py::array points1 = checkPoints(echo1, "echo1", true, rows1, cols1);
     const py::array points2 = checkPoints(echo2, "echo2", true, rows2, cols2);
@@ -380,7 +407,7 @@ public:
         copyIntensities(i1_data, sweep_.echoes[0].intensities);
         copyIntensities(i2_data, sweep_.echoes[1].intensities);
         sweep_.has_intensity = i1_data != nullptr && i2_data != nullptr;
-        sweep_.computeRanges(context_.sensorOrigin());
+        sweep_.computeRanges(context.sensorOrigin());
       }
       for (int k = 0; k < 2; ++k)
         if (bad[k] >= 0)
@@ -388,7 +415,7 @@ public:
           py::gil_scoped_acquire acquire;
           throwPartlyFinite(k == 0 ? "echo1" : "echo2", bad[k], sweep_.echoes[k].points[static_cast<std::size_t>(bad[k])]);
         }
-      const core::PipelineResult& r = pipeline_.process(sweep_, context_);
+      const core::PipelineResult& r = pipeline_.process(sweep_, context);
       core::writeLabelledRecords(sweep_, r.labels, records);
       py::gil_scoped_acquire acquire;
       cleaned = cleanedArray(r.cleaned);
@@ -398,11 +425,54 @@ public:
     return py::make_tuple(labelled, cleaned, objects, stats);
   }
 
+  // The post-filter's map objects in the fixed frame (normals towards `viewpoint`), each as an
+  // object dict with sweeps_seen and mirror_log_odds.
+  py::list mapObjects(const std::array<double, 3>& viewpoint)
+  {
+    std::vector<core::ReflectiveObject> objects;
+    std::vector<std::pair<std::uint32_t, double>> evidence;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      const core::ObjectMap& map = pipeline_.objectMap();
+      const Eigen::Vector3f from(static_cast<float>(viewpoint[0]), static_cast<float>(viewpoint[1]),
+                                 static_cast<float>(viewpoint[2]));
+      for (const core::MapObject& object : map.objects())
+      {
+        objects.push_back(map.toReflectiveObject(object, Eigen::Isometry3d::Identity(), from));
+        evidence.emplace_back(object.sweeps_seen, object.mirror_log_odds);
+      }
+    }
+    py::list list = objectList(objects);
+    for (std::size_t k = 0; k < objects.size(); ++k)
+    {
+      py::dict d = list[k];
+      d["sweeps_seen"] = evidence[k].first;
+      d["mirror_log_odds"] = evidence[k].second;
+    }
+    return list;
+  }
+
+  // The map as a YAML file (core/object_map_file.h): "" or what went wrong.
+  std::string saveMap(const std::string& path, const std::string& fixed_frame)
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(mutex_);
+    return core::saveObjectMap(path, fixed_frame, pipeline_.objectMap());
+  }
+  std::string loadMap(const std::string& path, const std::string& fixed_frame)
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(mutex_);
+    return core::loadObjectMap(path, fixed_frame, pipeline_.objectMap());
+  }
+
   // One cloud holding both returns (input mode dual_return); labelled keeps the input's order.
   py::tuple filterDualReturn(const py::object& points_object, const py::object& returns_object,
                              const py::object& rings_object, const py::object& intensities_object,
-                             double azimuth_resolution_deg)
+                             double azimuth_resolution_deg, const py::object& pose)
   {
+    const core::SweepContext context = contextWithPose(pose);
     const std::string resolution_problem = core::validateAzimuthResolution(azimuth_resolution_deg);
     if (!resolution_problem.empty())
       throw py::value_error(resolution_problem);
@@ -436,7 +506,7 @@ public:
       input_.returns.assign(returns_data, returns_data + n);
       input_.rings.assign(rings_data, rings_data + n);
       const core::DualReturnStats binning = binner_.bin(input_, azimuth_resolution_deg, sweep_);
-      const core::PipelineResult& r = pipeline_.process(sweep_, context_);
+      const core::PipelineResult& r = pipeline_.process(sweep_, context);
       // The input's order and count; points in no grid cell are nanPoint, echo 0.
       core::writeLabelledRecords(sweep_, r.labels, records);
       py::gil_scoped_acquire acquire;
@@ -460,8 +530,6 @@ private:
   std::mutex mutex_;
   core::Pipeline pipeline_;
   core::Sweep sweep_;
-  // Arrays from Python carry no stamp or frame; their points are in the scanner's frame.
-  const core::SweepContext context_;
   core::DualReturnInput input_;
   core::DualReturnBinner binner_;
 };
@@ -503,12 +571,19 @@ PYBIND11_MODULE(_core, m)
       .def("set_params", &PythonPipeline::setParams, py::arg("params"))
       .def_property_readonly("params", &PythonPipeline::params)
       .def("filter_pair", &PythonPipeline::filterPair, py::arg("echo1"), py::arg("echo2"),
-           py::arg("intensity1") = py::none(), py::arg("intensity2") = py::none(),
-           "(labelled, cleaned, objects, stats) of two index-aligned echoes.")
+           py::arg("intensity1") = py::none(), py::arg("intensity2") = py::none(), py::arg("pose") = py::none(),
+           "(labelled, cleaned, objects, stats) of two index-aligned echoes; pose: fixed_from_sweep (4 x 4) "
+           "for the post-filter.")
       .def("filter_dual_return", &PythonPipeline::filterDualReturn, py::arg("points"), py::arg("returns"),
            py::arg("rings"), py::arg("intensities") = py::none(),
-           py::arg("azimuth_resolution_deg") = core::kAzimuthStepFromCloud,
-           "(labelled, cleaned, objects, stats) of one cloud holding both returns.");
+           py::arg("azimuth_resolution_deg") = core::kAzimuthStepFromCloud, py::arg("pose") = py::none(),
+           "(labelled, cleaned, objects, stats) of one cloud holding both returns; pose as filter_pair.")
+      .def("map_objects", &PythonPipeline::mapObjects, py::arg("viewpoint"),
+           "The post-filter's map objects in the fixed frame (object dicts with sweeps_seen, mirror_log_odds).")
+      .def("save_map", &PythonPipeline::saveMap, py::arg("path"), py::arg("fixed_frame"),
+           "Writes the object map as YAML; '' or the problem.")
+      .def("load_map", &PythonPipeline::loadMap, py::arg("path"), py::arg("fixed_frame"),
+           "Replaces the object map by a file's; '' or the problem (the map is then empty).");
 
   m.attr("OUTPUT_DTYPE") = py::dtype::of<core::OutputRecord>();
 }

@@ -247,11 +247,21 @@ public:
     cleaned_topic_ = prefix + "/cleaned";
     objects_topic_ = prefix + "/objects";
     markers_topic_ = prefix + "/markers";
+    if (options.params.post_filter != 0)
+    {
+      map_objects_topic_ = prefix + "/map_objects";
+      map_markers_topic_ = prefix + "/map_markers";
+      map_evidence_topic_ = prefix + "/map_evidence";
+    }
   }
 
+  // With post_filter the map's topics too (written for every sweep with a fixed pose).
   std::vector<std::string> outputTopics() const
   {
-    return { labelled_topic_, cleaned_topic_, objects_topic_, markers_topic_ };
+    std::vector<std::string> topics = { labelled_topic_, cleaned_topic_, objects_topic_, markers_topic_ };
+    if (!map_objects_topic_.empty())
+      topics.insert(topics.end(), { map_objects_topic_, map_markers_topic_, map_evidence_topic_ });
+    return topics;
   }
 
   // Called before each message the input reads, so that a sweep's time includes its conversion.
@@ -267,7 +277,9 @@ public:
   {
     std::swap(pipeline_.sweep(), sweep);
     OutputMessages outputs;
-    const core::PipelineResult& result = pipeline_.process(context, OutputRequest(), outputs);
+    OutputRequest request;
+    request.map_objects = request.map_markers = request.map_evidence = !map_objects_topic_.empty();
+    const core::PipelineResult& result = pipeline_.process(context, request, outputs);
     const double seconds = secondsSince(message_start_);
     summary_.sweep_seconds.push_back(seconds);
     ++summary_.sweeps_processed;
@@ -278,6 +290,12 @@ public:
     out_.write(cleaned_topic_, bag_time_, *outputs.cleaned);
     out_.write(objects_topic_, bag_time_, *outputs.objects);
     out_.write(markers_topic_, bag_time_, *outputs.markers);
+    if (outputs.map_objects)
+    {
+      out_.write(map_objects_topic_, bag_time_, *outputs.map_objects);
+      out_.write(map_markers_topic_, bag_time_, *outputs.map_markers);
+      out_.write(map_evidence_topic_, bag_time_, *outputs.map_evidence);
+    }
     if (options_.verbose)
     {
       log_ << "sweep " << summary_.sweeps_processed << " (stamp " << toHeader(context).stamp << ", bag time "
@@ -305,7 +323,7 @@ public:
     }
     const std::size_t seen = ++warnings_[reason];
     if (seen <= kReportedDropsPerReason || options_.verbose)
-      log_ << "prefilter_bag: warning at bag time " << bag_time_ << ": " << problem.describeInFull()
+      log_ << "prefilter_bag: " << (problem.error ? "error" : "warning") << " at bag time " << bag_time_ << ": " << problem.describeInFull()
            << (seen == kReportedDropsPerReason && !options_.verbose ? " (more of these are not shown)" : "") << "\n";
   }
 
@@ -331,6 +349,7 @@ private:
   BagToolSummary& summary_;
   std::ostream& log_;
   std::string labelled_topic_, cleaned_topic_, objects_topic_, markers_topic_;
+  std::string map_objects_topic_, map_markers_topic_, map_evidence_topic_;  // empty without post_filter
   Clock::time_point message_start_ = Clock::now();
   ros::Time bag_time_;
   std::map<std::string, std::size_t> warnings_;  // text -> count, to limit the lines
@@ -436,6 +455,9 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
     throw BagToolError("cannot read " + options.input_path + " as a ROS bag: " + e.what());
   }
   InputOptions input_options = options.input;
+  if (options.params.post_filter != 0 && input_options.fixed_frame.empty())
+    throw BagToolError("post_filter = 1 needs fixed_frame (the frame the object map is kept in; tf from the bag's "
+                       "/tf and /tf_static places every sweep in it)");
   if (mode == nullptr)
     mode = &modeFromBag(in, options.input_path, input_options, log);
   const std::string mode_name = mode->name;
@@ -462,8 +484,9 @@ BagToolSummary runPrefilterBag(const BagToolOptions& options, std::ostream& log)
       throw BagToolError("input mode " + mode_name + " reads " + topic.name + " twice; its topics must differ");
   std::string tf_user;
   if (input.readsTf())
-    tf_user = input_options.sensor_frame.empty() ? "input mode " + mode_name :
-                                                   "sensor_frame '" + input_options.sensor_frame + "'";
+    tf_user = !input_options.sensor_frame.empty() ? "sensor_frame '" + input_options.sensor_frame + "'" :
+              !input_options.fixed_frame.empty()  ? "fixed_frame '" + input_options.fixed_frame + "'" :
+                                                    "input mode " + mode_name;
   checkTopics(in, options.input_path, mode_name, wanted, tf_user);
   output.open();
   std::map<std::string, const InputTopic*> input_topics;

@@ -653,6 +653,12 @@ void readInputOptions(const ParamSource& source, const InputMode& mode, InputOpt
                      " has the wrong type: expected a string (the scanner's tf frame)");
   if (!options.sensor_frame.empty() && options.sensor_frame[0] == '/')
     options.sensor_frame.erase(0, 1);  // tf2 frame names have no leading slash
+  options.fixed_frame.clear();
+  if (source.has("fixed_frame") && !source.get("fixed_frame", options.fixed_frame))
+    errors.push_back("parameter " + source.describe("fixed_frame") +
+                     " has the wrong type: expected a string (the post-filter's fixed tf frame)");
+  if (!options.fixed_frame.empty() && options.fixed_frame[0] == '/')
+    options.fixed_frame.erase(0, 1);
   if (mode.read_options != nullptr)
     mode.read_options(source, options, errors);
 }

@@ -42,6 +42,37 @@ const core::PipelineResult& MessagePipeline::process(const core::SweepContext& c
     outputs.markers.reset(new visualization_msgs::MarkerArray);
     toMarkers(header, result.objects, *outputs.markers);
   }
+  if (context.has_fixed_pose && (request.map_objects || request.map_markers || request.map_evidence))
+  {
+    std_msgs::Header fixed_header = header;
+    fixed_header.frame_id = context.fixed_frame_id;
+    const Eigen::Vector3f sensor_in_fixed = (context.fixed_from_sweep * context.sensor_pose.translation()).cast<float>();
+    std::vector<core::ReflectiveObject> map_objects;
+    const core::ObjectMap& map = pipeline_.objectMap();
+    for (const core::MapObject& object : map.objects())
+      map_objects.push_back(map.toReflectiveObject(object, Eigen::Isometry3d::Identity(), sensor_in_fixed));
+    if (request.map_objects)
+    {
+      outputs.map_objects.reset(new ReflectiveObjectArray);
+      toObjectArray(fixed_header, map_objects, *outputs.map_objects);
+    }
+    if (request.map_markers)
+    {
+      outputs.map_markers.reset(new visualization_msgs::MarkerArray);
+      toMarkers(fixed_header, map_objects, *outputs.map_markers);
+    }
+    if (request.map_evidence)
+    {
+      outputs.map_evidence.reset(new ObjectMapEvidence);
+      outputs.map_evidence->header = fixed_header;
+      for (const core::MapObject& object : map.objects())
+      {
+        outputs.map_evidence->ids.push_back(object.id);
+        outputs.map_evidence->sweeps_seen.push_back(object.sweeps_seen);
+        outputs.map_evidence->mirror_log_odds.push_back(static_cast<float>(object.mirror_log_odds));
+      }
+    }
+  }
   return result;
 }
 

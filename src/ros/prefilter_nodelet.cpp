@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/object_map_file.h"
 #include "ohm_mirror_detector3d/core/removal_report.h"
 #include "ohm_mirror_detector3d/ros/conversions.h"
 #include "ohm_mirror_detector3d/core/legacy_values.h"
@@ -22,6 +23,8 @@ namespace
 constexpr double kTfPollSeconds = 0.02;
 // A stage that removes an implausible share says so at most this often (every sweep may).
 constexpr double kRemovalWarningSeconds = 10.0;
+// The post-filter switched on (reconfigure) without a fixed_frame says so at most this often.
+constexpr double kNoFixedFrameSeconds = 10.0;
 
 std::string joinLines(const std::vector<std::string>& lines)
 {
@@ -102,6 +105,11 @@ void PreFilterNodelet::onInit()
                      ")";
   if (mode != nullptr)
     ros_io::readInputOptions(source, *mode, options, errors);
+  fixed_frame_ = options.fixed_frame;
+  if (params.post_filter != 0 && fixed_frame_.empty())
+    errors.push_back("post_filter = 1 needs fixed_frame (the frame the object map is kept in, e.g. odom)");
+  if (source.has("map_file") && !source.get("map_file", map_file_))
+    errors.push_back("parameter " + source.describe("map_file") + " has the wrong type: expected a file path");
   const auto refuseIfBad = [this, &errors]() {
     if (errors.empty())
       return;
@@ -116,6 +124,15 @@ void PreFilterNodelet::onInit()
   // Everything a sweep passes through is ready before the outputs are advertised: a subscriber
   // that connects at once subscribes the input (updateSubscription).
   pipeline_.setParams(params);
+  if (!map_file_.empty())
+  {
+    const std::string problem = core::loadObjectMap(map_file_, fixed_frame_, pipeline_.objectMap());
+    if (problem.empty())
+      NODELET_INFO_STREAM(getName() << ": object map loaded from " << map_file_ << " ("
+                                    << pipeline_.objectMap().objects().size() << " objects)");
+    else
+      NODELET_ERROR_STREAM(getName() << ": starting with an empty object map: " << problem);
+  }
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   ros_io::SweepReceiver& receiver = *this;
   input_ = std::make_unique<ros_io::SweepInput>(*mode, options, *tf_buffer_, receiver,
@@ -136,6 +153,8 @@ void PreFilterNodelet::onInit()
     NODELET_WARN_STREAM(warning);
   ros_io::writeParams(pnh, params);
 
+  save_map_service_ = pnh.advertiseService("save_map", &PreFilterNodelet::onSaveMap, this);
+  load_map_service_ = pnh.advertiseService("load_map", &PreFilterNodelet::onLoadMap, this);
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<PreFilterConfig>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(
       [this](PreFilterConfig& config, std::uint32_t level) { onReconfigure(config, level); });
@@ -152,6 +171,8 @@ void PreFilterNodelet::onInit()
                                                       << inputs << "; publishing " << labelled_pub_.getTopic() << ", "
                                                       << cleaned_pub_.getTopic() << ", " << objects_pub_.getTopic()
                                                       << ", " << markers_pub_.getTopic()
+                                                      << (fixed_frame_.empty() ? "" : ", " + map_objects_pub_.getTopic() +
+                                                                                          " (in " + fixed_frame_ + ")")
                                                       << (legacy.empty() ? "" : "; the original's outputs: " + legacy));
   // nodelet 1.10.0 (Debian 11, Noetic until 2021) disables the nodelet's callback queues while onInit
   // runs and drops what is queued meanwhile, among it the connect callback of a subscriber that
@@ -181,6 +202,9 @@ void PreFilterNodelet::advertiseOutputs(const ros_io::ParamSource& source, bool 
   objects_pub_ = pnh.advertise<ReflectiveObjectArray>(objects, 1, on_connection, on_connection);
   markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>(markers, 1, on_connection, on_connection);
   legacy_.advertise(pnh, source, every_legacy_output, on_connection);
+  map_objects_pub_ = pnh.advertise<ReflectiveObjectArray>("map_objects", 1, on_connection, on_connection);
+  map_markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("map_markers", 1, on_connection, on_connection);
+  map_evidence_pub_ = pnh.advertise<ObjectMapEvidence>("map_evidence", 1, on_connection, on_connection);
   // Not an output: subscribing to it alone does not start the pre-filter.
   timing_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("timing", 10);
 }
@@ -209,7 +233,8 @@ void PreFilterNodelet::updateSubscription()
   std::lock_guard<std::mutex> lock(subscription_mutex_);
   const bool wanted = labelled_pub_.getNumSubscribers() > 0 || cleaned_pub_.getNumSubscribers() > 0 ||
                       objects_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0 ||
-                      legacy_.anySubscribed();
+                      map_objects_pub_.getNumSubscribers() > 0 || map_markers_pub_.getNumSubscribers() > 0 ||
+                      map_evidence_pub_.getNumSubscribers() > 0 || legacy_.anySubscribed();
   if (wanted && !subscribed_)
     subscribe();
   else if (!wanted && subscribed_)
@@ -282,6 +307,39 @@ void PreFilterNodelet::onReconfigure(PreFilterConfig& config, std::uint32_t /*le
   active_config_ = config;
 }
 
+bool PreFilterNodelet::onSaveMap(MapFile::Request& request, MapFile::Response& response)
+{
+  const std::string path = request.path.empty() ? map_file_ : request.path;
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  response.message = path.empty() ? "no path given and no map_file set" :
+                                    core::saveObjectMap(path, fixed_frame_, pipeline_.objectMap());
+  response.success = response.message.empty();
+  if (response.success)
+    response.message = std::to_string(pipeline_.objectMap().objects().size()) + " objects saved to " + path;
+  else
+    NODELET_ERROR_STREAM(getName() << ": ~save_map: " << response.message);
+  return true;
+}
+
+bool PreFilterNodelet::onLoadMap(MapFile::Request& request, MapFile::Response& response)
+{
+  const std::string path = request.path.empty() ? map_file_ : request.path;
+  std::lock_guard<std::mutex> lock(pipeline_mutex_);
+  if (path.empty())
+  {
+    response.success = false;
+    response.message = "no path given and no map_file set: the map is kept";
+    return true;
+  }
+  response.message = core::loadObjectMap(path, fixed_frame_, pipeline_.objectMap());
+  response.success = response.message.empty();
+  if (response.success)
+    response.message = std::to_string(pipeline_.objectMap().objects().size()) + " objects loaded from " + path;
+  else
+    NODELET_ERROR_STREAM(getName() << ": ~load_map: the object map is empty now: " << response.message);
+  return true;
+}
+
 void PreFilterNodelet::sweepReady(core::Sweep& sweep, const core::SweepContext& context)
 {
   std::lock_guard<std::mutex> lock(pipeline_mutex_);
@@ -328,6 +386,8 @@ void PreFilterNodelet::reportInputProblem(const ros_io::InputProblem& problem)
       suppressed > 0 ? " (and " + std::to_string(suppressed) + " more like it since the last report)" : "";
   if (problem.dropped)
     NODELET_ERROR_STREAM("dropping " << problem.describeInFull() << repeats);
+  else if (problem.error)
+    NODELET_ERROR_STREAM(problem.describeInFull() << repeats);
   else
     NODELET_WARN_STREAM(problem.describeInFull() << repeats);
 }
@@ -339,6 +399,13 @@ void PreFilterNodelet::processAndPublish(const core::SweepContext& context)
   request.cleaned = cleaned_pub_.getNumSubscribers() > 0;
   request.objects = objects_pub_.getNumSubscribers() > 0;
   request.markers = markers_pub_.getNumSubscribers() > 0;
+  request.map_objects = map_objects_pub_.getNumSubscribers() > 0;
+  request.map_markers = map_markers_pub_.getNumSubscribers() > 0;
+  request.map_evidence = map_evidence_pub_.getNumSubscribers() > 0;
+  if (pipeline_.params().post_filter != 0 && fixed_frame_.empty())
+    NODELET_ERROR_STREAM_THROTTLE(kNoFixedFrameSeconds, getName() << ": post_filter is 1 but fixed_frame is not set "
+                                                                  "(a start-up parameter): every sweep is processed "
+                                                                  "single-sweep");
   ros_io::OutputMessages outputs;
   const auto start = ros_io::ProcessingStats::Clock::now();
   const core::PipelineResult& result = pipeline_.process(context, request, outputs);
@@ -374,6 +441,12 @@ void PreFilterNodelet::processAndPublish(const core::SweepContext& context)
     objects_pub_.publish(outputs.objects);
   if (outputs.markers)
     markers_pub_.publish(outputs.markers);
+  if (outputs.map_objects)
+    map_objects_pub_.publish(outputs.map_objects);
+  if (outputs.map_markers)
+    map_markers_pub_.publish(outputs.map_markers);
+  if (outputs.map_evidence)
+    map_evidence_pub_.publish(outputs.map_evidence);
   legacy_.publish(ros_io::toHeader(context), pipeline_.sweep(), result, context.sensorOrigin());
 }
 

@@ -32,17 +32,23 @@ ros::Time stampOf(const core::SweepContext& context)
 }
 }  // namespace
 
-SensorPoseQueue::SensorPoseQueue(const std::string& sensor_frame, const std::string& topic, const tf2::BufferCore& tf,
-                                 SweepReceiver& next, std::function<double()> clock)
-  : sensor_frame_(sensor_frame), topic_(topic), tf_(tf), next_(next), clock_(std::move(clock))
+SensorPoseQueue::SensorPoseQueue(const std::string& sensor_frame, const std::string& fixed_frame,
+                                 const std::string& topic, const tf2::BufferCore& tf, SweepReceiver& next,
+                                 std::function<double()> clock)
+  : sensor_frame_(sensor_frame), fixed_frame_(fixed_frame), topic_(topic), tf_(tf), next_(next), clock_(std::move(clock))
 {
 }
 
-SensorPoseQueue::Lookup SensorPoseQueue::lookUp(core::SweepContext& context, std::string& reason) const
+SensorPoseQueue::Lookup SensorPoseQueue::lookUp(const std::string& target, const std::string& source,
+                                                const core::SweepContext& context, Eigen::Isometry3d& pose,
+                                                std::string& reason) const
 {
   const std::string& frame = context.frame_id;
-  if (frame == sensor_frame_)
-    return Lookup::found;  // the clouds are in the scanner's frame after all: the identity
+  if (target == source)
+  {
+    pose = Eigen::Isometry3d::Identity();
+    return Lookup::found;  // e.g. the clouds are in the scanner's frame after all
+  }
   if (frame.empty() || frame[0] == '/')
   {
     reason = "tf cannot use the cloud's frame_id '" + frame + "' (empty, or it starts with '/')";
@@ -50,11 +56,11 @@ SensorPoseQueue::Lookup SensorPoseQueue::lookUp(core::SweepContext& context, std
   }
   const ros::Time stamp = stampOf(context);
   const auto found = [&]() {
-    if (!tf_.canTransform(frame, sensor_frame_, stamp, &reason))
+    if (!tf_.canTransform(target, source, stamp, &reason))
       return false;
     try
     {
-      context.sensor_pose = toIsometry(tf_.lookupTransform(frame, sensor_frame_, stamp).transform);
+      pose = toIsometry(tf_.lookupTransform(target, source, stamp).transform);
       return true;
     }
     catch (const tf2::TransformException& e)
@@ -65,7 +71,7 @@ SensorPoseQueue::Lookup SensorPoseQueue::lookUp(core::SweepContext& context, std
   };
   if (found())
     return Lookup::found;
-  if (transformMayStillCome(tf_, frame, sensor_frame_, stamp, reason))
+  if (transformMayStillCome(tf_, target, source, stamp, reason))
     return Lookup::wait;
   // A tf listener fills the buffer on its own thread: the transform may have come between the
   // first try and the look at the newest one. Only a second miss means it never will.
@@ -79,6 +85,54 @@ void SensorPoseQueue::drop(const core::SweepContext& context, const std::string&
                                        context.frame_id + "' " + why });
 }
 
+bool SensorPoseQueue::settle(core::Sweep& sweep, const core::SweepContext& context, double waited)
+{
+  const bool timed_out = waited > kMaxWaitSeconds;
+  const std::string stamp = formatSeconds(stampOf(context).toSec());
+  core::SweepContext placed = context;
+  std::string reason;
+  if (!sensor_frame_.empty())
+  {
+    switch (lookUp(context.frame_id, sensor_frame_, context, placed.sensor_pose, reason))
+    {
+      case Lookup::found: break;
+      case Lookup::never: drop(context, "will come for its stamp " + stamp + ": " + reason); return true;
+      case Lookup::wait:
+        if (!timed_out)
+          return false;
+        drop(context, "after waiting " + formatSeconds(waited) + " s for its stamp " + stamp + ": " + reason);
+        return true;
+    }
+  }
+  if (!fixed_frame_.empty())
+  {
+    Eigen::Isometry3d fixed_from_sweep = Eigen::Isometry3d::Identity();
+    const Lookup lookup = lookUp(fixed_frame_, context.frame_id, context, fixed_from_sweep, reason);
+    if (lookup == Lookup::wait && !timed_out)
+      return false;
+    if (lookup == Lookup::found)
+    {
+      placed.has_fixed_pose = true;
+      placed.fixed_frame_id = fixed_frame_;
+      placed.fixed_from_sweep = fixed_from_sweep;
+    }
+    else
+    {
+      InputProblem problem(false, "sweep", topic_,
+                           "no transform from the cloud's frame '" + context.frame_id + "' to fixed_frame '" +
+                               fixed_frame_ + "': processed single-sweep, not merged into the object map nor "
+                               "labelled against it",
+                           (lookup == Lookup::never ? "none will come for its stamp " :
+                                                      "waited " + formatSeconds(waited) + " s for its stamp ") +
+                               stamp + ": " + reason);
+      problem.error = true;
+      next_.inputProblem(problem);
+    }
+  }
+  next_.sweepReady(sweep, placed);
+  return true;
+}
+
 void SensorPoseQueue::sweepReady(core::Sweep& sweep, const core::SweepContext& context)
 {
   std::unique_lock<std::mutex> deliver(deliver_mutex_, std::try_to_lock);
@@ -87,22 +141,8 @@ void SensorPoseQueue::sweepReady(core::Sweep& sweep, const core::SweepContext& c
     std::lock_guard<std::mutex> lock(waiting_mutex_);
     older_waiting = !waiting_.empty();
   }
-  if (deliver.owns_lock() && !older_waiting)
-  {
-    core::SweepContext placed = context;
-    std::string reason;
-    switch (lookUp(placed, reason))
-    {
-      case Lookup::found:
-        next_.sweepReady(sweep, placed);
-        return;
-      case Lookup::never:
-        drop(context, "will come for its stamp " + formatSeconds(stampOf(context).toSec()) + ": " + reason);
-        return;
-      case Lookup::wait:
-        break;
-    }
-  }
+  if (deliver.owns_lock() && !older_waiting && settle(sweep, context, 0.0))
+    return;
   Waiting overflow;
   bool overflowed = false;
   {
@@ -138,38 +178,22 @@ void SensorPoseQueue::deliverWaiting()
 {
   for (;;)
   {
-    core::SweepContext context;
-    double since = 0.0;
-    std::uint64_t id = 0;
+    Waiting taken;
     {
       std::lock_guard<std::mutex> lock(waiting_mutex_);
       if (waiting_.empty())
         return;
-      context = waiting_.front().context;
-      since = waiting_.front().since;
-      id = waiting_.front().id;
-    }
-    std::string reason;
-    const Lookup lookup = lookUp(context, reason);
-    const double waited = clock_() - since;
-    if (lookup == Lookup::wait && waited <= kMaxWaitSeconds)
-      return;
-    Waiting taken;
-    {
-      std::lock_guard<std::mutex> lock(waiting_mutex_);
-      // An overflow or reset() may have removed it meanwhile.
-      if (waiting_.empty() || waiting_.front().id != id)
-        continue;
       std::swap(taken, waiting_.front());
       waiting_.pop_front();
     }
-    if (lookup == Lookup::found)
-      next_.sweepReady(taken.sweep, context);
-    else if (lookup == Lookup::never)
-      drop(context, "will come for its stamp " + formatSeconds(stampOf(context).toSec()) + ": " + reason);
-    else
-      drop(context, "after waiting " + formatSeconds(waited) + " s for its stamp " +
-                        formatSeconds(stampOf(context).toSec()) + ": " + reason);
+    // Settled outside the lock (the receiver runs the pipeline); one that must wait on goes
+    // back to the front, unless a reset() came meanwhile.
+    if (settle(taken.sweep, taken.context, clock_() - taken.since))
+      continue;
+    std::lock_guard<std::mutex> lock(waiting_mutex_);
+    if (taken.id >= next_id_reset_)
+      waiting_.push_front(std::move(taken));
+    return;
   }
 }
 
@@ -188,6 +212,7 @@ void SensorPoseQueue::reset()
 {
   std::lock_guard<std::mutex> lock(waiting_mutex_);
   waiting_.clear();
+  next_id_reset_ = next_id_;
 }
 
 std::size_t SensorPoseQueue::waitingSweeps()

@@ -12,10 +12,10 @@ std::unique_ptr<SensorPoseQueue> makePoseQueue(const InputOptions& options, cons
                                                const tf2::BufferCore& tf, SweepReceiver& receiver,
                                                std::function<double()> clock)
 {
-  if (options.sensor_frame.empty())
+  if (options.sensor_frame.empty() && options.fixed_frame.empty())
     return nullptr;
   return std::unique_ptr<SensorPoseQueue>(
-      new SensorPoseQueue(options.sensor_frame, topics, tf, receiver, std::move(clock)));
+      new SensorPoseQueue(options.sensor_frame, options.fixed_frame, topics, tf, receiver, std::move(clock)));
 }
 }  // namespace
 

@@ -83,7 +83,14 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.cone_labelling.plane_threshold != before.cone_labelling.plane_threshold ||
         after.cone_labelling.cone_margin != before.cone_labelling.cone_margin ||
         after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth ||
-        after.reflection_chains.max_reflections != before.reflection_chains.max_reflections;
+        after.reflection_chains.max_reflections != before.reflection_chains.max_reflections ||
+        after.object_map.enabled != before.object_map.enabled ||
+        after.object_map.merge_distance != before.object_map.merge_distance ||
+        after.object_map.merge_angle != before.object_map.merge_angle ||
+        after.object_map.merge_gap != before.object_map.merge_gap ||
+        after.object_map.cell_size != before.object_map.cell_size ||
+        after.object_map.forgetting != before.object_map.forgetting ||
+        after.object_map.type_log_odds != before.object_map.type_log_odds;
     EXPECT_TRUE(differs) << param.name << " reaches no stage";
   }
 }

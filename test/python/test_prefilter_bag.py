@@ -431,3 +431,43 @@ def test_sensor_frame_without_the_transform_is_reported(binary, ros_messages, tm
     p = run(binary, late, out_bag, '--params', params)
     assert 'sweeps dropped:   1' in p.stderr
     assert "for the stamp 1000.000 by the end of the bag" in p.stderr
+
+
+def test_post_filter_takes_each_sweeps_pose_from_the_bags_tf(binary, ros_messages, tmp_path):
+    """Three sweeps of pane_in_wall from places 0.25 m apart, their poses odom <- laser on /tf: one
+    map object in odom that keeps its id and grows, written to /prefilter/map_objects per sweep."""
+    import rosbag
+    import rospy
+    from ohm_mirror_detector3d import scene as scenes, scanner, simulate
+    from ohm_mirror_detector3d.scene import Pose
+    start = scenes.get('pane_in_wall').scanner_pose
+    poses = [Pose((start.position[0], start.position[1] + 0.25 * k, start.position[2]), (0.0, 0.0, 0.1 * k))
+             for k in range(3)]
+    sweeps = [simulate.simulate_sweep('pane_in_wall', scanner.RotatingHokuyo(scans=200, range_noise=0.01), seed=k,
+                                      pose=pose) for k, pose in enumerate(poses)]
+    in_bag, out_bag = tmp_path / 'in.bag', tmp_path / 'out.bag'
+    ros_messages.write_sweeps_bag(str(in_bag), sweeps, start_time=1000.0, period=1.0)
+    with rosbag.Bag(str(in_bag), 'a') as bag:
+        for k, pose in enumerate(poses):
+            yaw = pose.rpy[2]
+            bag.write('/tf', ros_messages.transform_msg(1000.0 + k, pose.position,
+                                                        (0.0, 0.0, np.sin(yaw / 2), np.cos(yaw / 2)), 'odom', 'laser'),
+                      rospy.Time.from_sec(1000.0 + k))
+    params = tmp_path / 'post_filter.yaml'
+    params.write_text('input_mode: pair\npost_filter: 1\nfixed_frame: odom\n')
+    p = run(binary, in_bag, out_bag, '--params', params)
+    assert 'sweeps processed: 3' in p.stderr and 'sweeps dropped:   0' in p.stderr, p.stderr
+    maps = [msg for _, msg, _ in read_all(out_bag, ['/prefilter/map_objects'])]
+    evidence = [msg for _, msg, _ in read_all(out_bag, ['/prefilter/map_evidence'])]
+    assert len(maps) == 3 and len(evidence) == 3
+    assert all(m.header.frame_id == 'odom' and [o.id for o in m.objects] == [0] for m in maps)
+    assert [list(e.sweeps_seen) for e in evidence] == [[1], [2], [3]]
+    widths = [m.objects[0].width for m in maps]
+    assert widths[0] + 0.1 < widths[1] < widths[2] - 0.1, widths
+    assert all(m.objects[0].type == m.objects[0].TYPE_GLASS for m in maps)
+
+    # post_filter without fixed_frame is refused before anything is written.
+    params.write_text('input_mode: pair\npost_filter: 1\n')
+    p = run(binary, in_bag, tmp_path / 'refused.bag', '--params', params, check=False)
+    assert p.returncode != 0 and 'post_filter = 1 needs fixed_frame' in p.stderr, p.stderr
+    assert_no_output(tmp_path / 'refused.bag')

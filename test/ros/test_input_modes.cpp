@@ -517,7 +517,7 @@ struct PoseQueueFixture : public ::testing::Test
   tf2::BufferCore tf;
   Recorder recorder;
   double now = 100.0;
-  SensorPoseQueue queue{ "laser", "/in", tf, recorder, [this]() { return now; } };
+  SensorPoseQueue queue{ "laser", "", "/in", tf, recorder, [this]() { return now; } };
 
   void send(const std::string& frame, double stamp, std::size_t beams = 3)
   {
@@ -616,6 +616,65 @@ TEST_F(PoseQueueFixture, ASweepWaitsAtMostItsTimeAndAtMostTwoWait)
   queue.reset();  // subscribing again: forgotten, not reported
   EXPECT_EQ(queue.waitingSweeps(), 0u);
   EXPECT_EQ(recorder.problems.size(), 4u);
+}
+
+// The post-filter's wait: clouds in base_link, the fixed frame odom (no sensor_frame).
+struct FixedPoseFixture : public ::testing::Test
+{
+  tf2::BufferCore tf;
+  Recorder recorder;
+  double now = 100.0;
+  SensorPoseQueue queue{ "", "odom", "/in", tf, recorder, [this]() { return now; } };
+
+  void send(double stamp)
+  {
+    core::Sweep sweep = sweepOfBeams(3);
+    queue.sweepReady(sweep, contextAt("base_link", stamp));
+  }
+};
+
+TEST_F(FixedPoseFixture, ASweepWaitsForItsFixedPoseAndGetsIt)
+{
+  send(10.0);
+  EXPECT_TRUE(recorder.contexts.empty());
+  Eigen::Isometry3d odom_from_base = mountPose();
+  tf.setTransform(transform("odom", "base_link", 9.0, odom_from_base), "test");
+  tf.setTransform(transform("odom", "base_link", 11.0, odom_from_base), "test");
+  queue.poll();
+  ASSERT_EQ(recorder.contexts.size(), 1u);
+  EXPECT_TRUE(recorder.contexts[0].has_fixed_pose);
+  EXPECT_EQ(recorder.contexts[0].fixed_frame_id, "odom");
+  EXPECT_TRUE(recorder.contexts[0].fixed_from_sweep.isApprox(odom_from_base, 1e-9));
+  EXPECT_TRUE(recorder.contexts[0].sensor_pose.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(recorder.problems.empty());
+}
+
+TEST_F(FixedPoseFixture, AMissingFixedPoseIsAnErrorButTheSweepIsProcessedSingleSweep)
+{
+  tf.setTransform(transform("odom", "base_link", 20.0, mountPose()), "test");
+  tf.setTransform(transform("odom", "base_link", 21.0, mountPose()), "test");
+  send(10.0);  // before tf's cache: it will not come
+  ASSERT_EQ(recorder.contexts.size(), 1u);
+  EXPECT_FALSE(recorder.contexts[0].has_fixed_pose);
+  ASSERT_EQ(recorder.problems.size(), 1u);
+  EXPECT_FALSE(recorder.problems[0].dropped);
+  EXPECT_TRUE(recorder.problems[0].error);
+  EXPECT_NE(recorder.problems[0].text.find("to fixed_frame 'odom': processed single-sweep"), std::string::npos)
+      << recorder.problems[0].text;
+  EXPECT_NE(recorder.problems[0].detail.find("none will come for its stamp 10.000"), std::string::npos)
+      << recorder.problems[0].detail;
+
+  // No transform at all for longer than a sweep may wait: the same, once it has waited.
+  tf.clear();
+  send(30.0);
+  EXPECT_EQ(recorder.contexts.size(), 1u);
+  now += SensorPoseQueue::kMaxWaitSeconds + 0.5;
+  queue.poll();
+  ASSERT_EQ(recorder.contexts.size(), 2u);
+  EXPECT_FALSE(recorder.contexts[1].has_fixed_pose);
+  ASSERT_EQ(recorder.problems.size(), 2u);
+  EXPECT_NE(recorder.problems[1].detail.find("waited 5.500 s for its stamp 30.000"), std::string::npos)
+      << recorder.problems[1].detail;
 }
 
 TEST(MessagePipeline, TheContextGivesTheSensorOriginAndTheOutputsStampAndFrame)

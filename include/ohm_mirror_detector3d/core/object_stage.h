@@ -23,6 +23,10 @@ public:
   // A short name for timing and messages.
   virtual const char* name() const = 0;
 
+  // Whether the stage runs on sweeps in which the detect phase found no object (the others are
+  // skipped there, and the per-point evidence is not built for them).
+  virtual bool runsWithoutObjects() const { return false; }
+
   // Called once per sweep, after the detect phase and the object stages before it. `labels`
   // hold the detect phase's evidence per point (nanPoint: gated or outlier; errorSurface / error:
   // near and far echo of a discontinuous beam; unchecked: everything else); `evidence` answers

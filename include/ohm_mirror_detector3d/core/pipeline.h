@@ -21,6 +21,7 @@
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
 #include "ohm_mirror_detector3d/core/mixed_pixels.h"
 #include "ohm_mirror_detector3d/core/object_extraction.h"
+#include "ohm_mirror_detector3d/core/object_map.h"
 #include "ohm_mirror_detector3d/core/object_stage.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
@@ -94,6 +95,11 @@ public:
   void setParams(const Params& params);
   const Params& params() const { return params_; }
 
+  // The post-filter's object map (post_filter = 1): kept over sweeps and over setParams (a new
+  // cell size clears it: its cells would not fit); loaded into and saved from here.
+  ObjectMap& objectMap() { return object_map_; }
+  const ObjectMap& objectMap() const { return object_map_; }
+
   // Appends a stage to the object stages; they run in the order added, after those the
   // parameters switch on.
   void addObjectStage(std::unique_ptr<ObjectStage> stage);
@@ -140,6 +146,7 @@ private:
   bool evidence_built_ = false;
   SamplingEstimator sampling_estimator_;
   std::vector<std::uint8_t> in_range_;  // per beam, for RemovalCounts (pipeline.cpp)
+  ObjectMap object_map_;
   // The object stages the parameters switch on (parameterStages in pipeline.cpp), then the added ones.
   std::vector<std::unique_ptr<ObjectStage>> parameter_stages_;
   std::vector<std::unique_ptr<ObjectStage>> object_stages_;

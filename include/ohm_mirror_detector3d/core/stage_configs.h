@@ -11,6 +11,7 @@
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
 #include "ohm_mirror_detector3d/core/mixed_pixels.h"
 #include "ohm_mirror_detector3d/core/object_extraction.h"
+#include "ohm_mirror_detector3d/core/object_map.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
 #include "ohm_mirror_detector3d/core/plane_crossings.h"
@@ -33,6 +34,7 @@ struct StageConfigs
   ConeLabellingConfig cone_labelling;
   ObjectGrowthConfig growth;  // mirror_growth.h and glass_growth.h
   ReflectionChainConfig reflection_chains;
+  ObjectMapConfig object_map;  // post_filter.h
 };
 
 // With outlierFilter_searchRadius automatic the outlier filter, its errorSurface pass and the

@@ -49,6 +49,9 @@ struct InputOptions
   MultiEchoScanOptions scan_options;                             // multi_echo_scan
   // The scanner's tf frame when the clouds come in another frame; empty: the clouds' own frame.
   std::string sensor_frame;
+  // The post-filter's fixed frame: each sweep's pose in it is looked up in tf (fixed_from_sweep of
+  // the context); empty: none.
+  std::string fixed_frame;
   // Prefixes the log messages the modes write themselves (multi_echo_scan's tf waits).
   std::string log_name;
 };
@@ -68,6 +71,9 @@ struct InputProblem
   std::string topic;  // where it came from, e.g. "/prefilter/input" or "/echo1 + /echo2"
   std::string text;   // what is wrong: the kind of problem, by which it is counted and throttled
   std::string detail;  // "" or the particulars of this one (stamps, counts), shown after it
+  // Not dropped, but an error all the same (a sweep processed single-sweep for want of its
+  // fixed pose): logged as an error, not a warning.
+  bool error = false;
 
   // "WHAT on TOPIC: TEXT"
   std::string describe() const { return what + " on " + topic + ": " + text; }

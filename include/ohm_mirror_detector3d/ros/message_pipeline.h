@@ -7,6 +7,7 @@
 #include <std_msgs/Header.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "ohm_mirror_detector3d/ObjectMapEvidence.h"
 #include "ohm_mirror_detector3d/ReflectiveObjectArray.h"
 #include "ohm_mirror_detector3d/core/pipeline.h"
 #include "ohm_mirror_detector3d/core/sweep_context.h"
@@ -22,6 +23,10 @@ struct OutputRequest
   bool cleaned = true;
   bool objects = true;
   bool markers = true;
+  // The post-filter's map, in the fixed frame (built only for a sweep with a fixed pose).
+  bool map_objects = false;
+  bool map_markers = false;
+  bool map_evidence = false;
 };
 
 // Output messages of one sweep; those not requested stay null.
@@ -31,6 +36,9 @@ struct OutputMessages
   sensor_msgs::PointCloud2Ptr cleaned;
   ReflectiveObjectArrayPtr objects;
   visualization_msgs::MarkerArrayPtr markers;
+  ReflectiveObjectArrayPtr map_objects;
+  visualization_msgs::MarkerArrayPtr map_markers;
+  ObjectMapEvidencePtr map_evidence;
 };
 
 class MessagePipeline
@@ -46,6 +54,8 @@ public:
   // The sweep process() runs on: the front end swaps each converted sweep into it (or fills it);
   // reused from message to message.
   core::Sweep& sweep() { return sweep_; }
+  // The post-filter's object map (core::Pipeline::objectMap).
+  core::ObjectMap& objectMap() { return pipeline_.objectMap(); }
 
   // Runs the pipeline on sweep() with what `context` says about it (the vision cones start at
   // the scanner's position) and builds the requested outputs, stamped and framed as the context

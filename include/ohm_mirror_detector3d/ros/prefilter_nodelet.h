@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "ohm_mirror_detector3d/MapFile.h"
 #include "ohm_mirror_detector3d/PreFilterConfig.h"
 #include "ohm_mirror_detector3d/ros/input_mode.h"
 #include "ohm_mirror_detector3d/ros/legacy_outputs.h"
@@ -45,6 +46,9 @@ private:
   void unsubscribe();
 
   void onReconfigure(PreFilterConfig& config, std::uint32_t level);
+  // ~save_map / ~load_map (the post-filter's object map as YAML; an empty path: map_file).
+  bool onSaveMap(MapFile::Request& request, MapFile::Response& response);
+  bool onLoadMap(MapFile::Request& request, MapFile::Response& response);
   // SweepReceiver: a sweep from the input (after its transform, with sensor_frame) goes through
   // the pipeline and out; a problem is logged (throttled) and counted.
   void sweepReady(core::Sweep& sweep, const core::SweepContext& context) override;
@@ -62,6 +66,14 @@ private:
   ros::Publisher objects_pub_;
   ros::Publisher markers_pub_;
   ros::Publisher timing_pub_;  // ~timing, for make bench: see processAndPublish
+  // The post-filter's object map in fixed_frame_: ~map_objects, ~map_markers, ~map_evidence.
+  ros::Publisher map_objects_pub_;
+  ros::Publisher map_markers_pub_;
+  ros::Publisher map_evidence_pub_;
+  ros::ServiceServer save_map_service_;
+  ros::ServiceServer load_map_service_;
+  std::string fixed_frame_;
+  std::string map_file_;
   // The original's outputs (pub_scan, pub_cleaned, ...) that are set, or all in hokuyo3d_legacy.
   ros_io::LegacyPublishers legacy_;
 

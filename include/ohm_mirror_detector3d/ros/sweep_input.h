@@ -1,6 +1,6 @@
 // The input path of the nodelet and of prefilter_bag, the same code for both: the input mode's
-// adapter (input_mode.h) and, with sensor_frame, the wait for the scanner's pose
-// (SensorPoseQueue), up to a receiver that runs the pipeline. The front ends only deliver the
+// adapter (input_mode.h) and, with sensor_frame or fixed_frame, the wait for the scanner's pose
+// and the sweep's pose in the fixed frame (SensorPoseQueue), up to a receiver that runs the pipeline. The front ends only deliver the
 // messages (subscribe(), or addSerialized() per recorded message), fill the tf buffer when
 // readsTf(), and call poll().
 #pragma once
@@ -32,7 +32,7 @@ public:
   const std::vector<std::unique_ptr<InputTopic>>& topics() const { return adapter_->topics(); }
   // The topics' names joined by " + ", for messages.
   std::string topicNames() const;
-  // Whether transforms are looked up (multi_echo_scan, or sensor_frame set).
+  // Whether transforms are looked up (multi_echo_scan, or sensor_frame or fixed_frame set).
   bool readsTf() const { return adapter_->readsTf() || pose_queue_ != nullptr; }
   // The adapter's line for the log at start-up ("" for none).
   std::string describe() const { return adapter_->describe(); }
@@ -54,7 +54,7 @@ public:
 private:
   std::unique_ptr<InputAdapter> adapter_;
   SweepReceiver& receiver_;
-  std::unique_ptr<SensorPoseQueue> pose_queue_;  // null without sensor_frame
+  std::unique_ptr<SensorPoseQueue> pose_queue_;  // null without sensor_frame and fixed_frame
   InputSink sink_;                               // to pose_queue_, or straight to receiver_
 };
 
