@@ -66,6 +66,19 @@ StageConfigs stageConfigs(const Params& params)
   configs.growth.enabled = params.grow_objects != 0;
   configs.growth.plane_threshold = static_cast<float>(params.plane_threshold);
   configs.growth.max_growth = static_cast<float>(params.growth_max_extent);
+  configs.intensity.enabled = params.intensity_evidence != 0;
+  configs.intensity.plane_threshold = static_cast<float>(params.plane_threshold);
+  configs.intensity.echo_threshold = static_cast<float>(params.echo_threshold);
+  configs.intensity.type_log_odds = static_cast<float>(params.intensity_type_log_odds);
+  auto feature = [](double mirror, double glass, double sigma) {
+    return FeatureModel{ static_cast<float>(mirror), static_cast<float>(glass), static_cast<float>(sigma) };
+  };
+  configs.intensity.model.haze =
+      feature(params.intensity_haze_mirror, params.intensity_haze_glass, params.intensity_haze_sigma);
+  configs.intensity.model.faint_share = feature(params.intensity_faint_share_mirror,
+                                                params.intensity_faint_share_glass, params.intensity_faint_share_sigma);
+  configs.intensity.model.echo_ratio = feature(params.intensity_echo_ratio_mirror, params.intensity_echo_ratio_glass,
+                                               params.intensity_echo_ratio_sigma);
   return configs;
 }
 

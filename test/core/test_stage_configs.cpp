@@ -50,6 +50,16 @@ TEST(StageConfigs, EachStageGetsItsOwnValuesFromTheParameters)
   EXPECT_FALSE(core::stageConfigs(core::Params()).growth.enabled);
 }
 
+bool differsIn(const core::FeatureModel& a, const core::FeatureModel& b)
+{
+  return a.mirror != b.mirror || a.glass != b.glass || a.sigma != b.sigma;
+}
+
+bool differsIn(const core::IntensityModel& a, const core::IntensityModel& b)
+{
+  return differsIn(a.haze, b.haze) || differsIn(a.faint_share, b.faint_share) || differsIn(a.echo_ratio, b.echo_ratio);
+}
+
 TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
 {
   // A parameter that no stage config changes with is a parameter nothing reads.
@@ -82,7 +92,9 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.object_type.icp_min_inlier_fraction != before.object_type.icp_min_inlier_fraction ||
         after.cone_labelling.plane_threshold != before.cone_labelling.plane_threshold ||
         after.cone_labelling.cone_margin != before.cone_labelling.cone_margin ||
-        after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth;
+        after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth ||
+        after.intensity.enabled != before.intensity.enabled ||
+        after.intensity.type_log_odds != before.intensity.type_log_odds || differsIn(after.intensity.model, before.intensity.model);
     EXPECT_TRUE(differs) << param.name << " reaches no stage";
   }
 }

@@ -9,6 +9,7 @@
 
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
+#include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/mixed_pixels.h"
 #include "ohm_mirror_detector3d/core/object_extraction.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
@@ -31,6 +32,7 @@ struct StageConfigs
   ObjectTypeConfig object_type;
   ConeLabellingConfig cone_labelling;
   ObjectGrowthConfig growth;  // mirror_growth.h and glass_growth.h
+  IntensityEvidenceConfig intensity;
 };
 
 // With outlierFilter_searchRadius automatic the outlier filter, its errorSurface pass and the
