@@ -234,4 +234,5 @@ def scene_path(scene, sweeps, seed=0, step=DEFAULT_STEP):
         return random_path(scene, sweeps, seed, step)
     if scene.name not in NAMED_PASSES:
         raise KeyError('scene %s has no pass (NAMED_PASSES: %s)' % (scene.name, ', '.join(NAMED_PASSES)))
-    return pass_by(scene, *NAMED_PASSES[scene.name][:1], sweeps, *NAMED_PASSES[scene.name][1:])
+    object_name, *geometry = NAMED_PASSES[scene.name]
+    return pass_by(scene, object_name, sweeps, *geometry)
