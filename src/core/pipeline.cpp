@@ -1,6 +1,7 @@
 #include "ohm_mirror_detector3d/core/pipeline.h"
 
 #include "ohm_mirror_detector3d/core/glass_growth.h"
+#include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/mirror_growth.h"
 #include "ohm_mirror_detector3d/core/post_filter.h"
 
@@ -68,6 +69,9 @@ void countRemoved(const std::vector<std::uint8_t>& marks, const SweepLabels& lab
 std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& configs, ObjectMap& object_map)
 {
   std::vector<std::unique_ptr<ObjectStage>> stages;
+  // Before the growth stages, which grow mirrors and panes by their type.
+  if (configs.intensity.enabled)
+    stages.push_back(std::make_unique<IntensityEvidence>(configs.intensity));
   if (configs.growth.enabled)
   {
     stages.push_back(std::make_unique<MirrorGrowth>(configs.growth));

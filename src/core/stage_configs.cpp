@@ -78,6 +78,19 @@ StageConfigs stageConfigs(const Params& params)
   configs.object_map.type_log_odds = params.map_type_log_odds;
   configs.object_map.plane_threshold = params.plane_threshold;
   configs.object_map.max_range = params.max_range;
+  configs.intensity.enabled = params.intensity_evidence != 0;
+  configs.intensity.plane_threshold = static_cast<float>(params.plane_threshold);
+  configs.intensity.echo_threshold = static_cast<float>(params.echo_threshold);
+  configs.intensity.type_log_odds = static_cast<float>(params.intensity_type_log_odds);
+  auto feature = [](double mirror, double glass, double sigma) {
+    return FeatureModel{ static_cast<float>(mirror), static_cast<float>(glass), static_cast<float>(sigma) };
+  };
+  configs.intensity.model.haze =
+      feature(params.intensity_haze_mirror, params.intensity_haze_glass, params.intensity_haze_sigma);
+  configs.intensity.model.faint_share = feature(params.intensity_faint_share_mirror,
+                                                params.intensity_faint_share_glass, params.intensity_faint_share_sigma);
+  configs.intensity.model.echo_ratio = feature(params.intensity_echo_ratio_mirror, params.intensity_echo_ratio_glass,
+                                               params.intensity_echo_ratio_sigma);
   return configs;
 }
 

@@ -69,7 +69,7 @@ def allowed(row, ascii_only=False):
     parts += ['< ' + other['label'] for other in PARAMETER_TABLE if other['above'] == row['name']]
     if row.get('automatic'):
         parts.append('0: automatic')
-    return ', '.join(parts)
+    return ', '.join(parts) or 'any number'
 
 
 def _plain(text):

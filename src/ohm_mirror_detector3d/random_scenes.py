@@ -127,6 +127,7 @@ def random_scene(seed):
         parts.append(_glass_partition(s, rng, partition_x, depth, height, floor))
         s.layout['partition_x'] = partition_x
     near = ((0.0, partition_x if partition_x is not None else width), (0.0, depth))
+    s.layout['near'] = near   # where the sensor may stand (and drive: sensor_path.random_path)
     far = ((partition_x, width), (0.0, depth)) if partition_x is not None else None
 
     if rng.random() < 0.7:

@@ -208,11 +208,13 @@ def filter_output_from_msgs(labelled, cleaned, objects=None):
 # Bags
 
 def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None, topic_prefix='/',
-                     to_messages=None, progress=None):
+                     to_messages=None, progress=None, sensor_path=None, fixed_frame=None):
     """Writes sweeps to a bag (no master needed): topics prefix + echo_pair, echo1, echo2, ground_truth,
     ground_truth_objects (or those of `to_messages(sweep, stamp, frame_id)`, default sweep_to_messages);
     sweep k is stamped start_time + k * period. Returns the stamps.
 
+    sensor_path: the sweeps' sensor_path.SensorPath; then /tf holds fixed_frame (default
+    sensor_path.FIXED_FRAME) <- the sweep's frame at every sweep's stamp, written before its clouds.
     progress: optional progress.Progress, told of every sweep written."""
     import rosbag
     to_messages = to_messages or sweep_to_messages
@@ -220,6 +222,9 @@ def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None,
     with rosbag.Bag(path, 'w') as bag:
         for k, sweep in enumerate(sweeps):
             stamp = rospy.Time.from_sec(start_time + k * period)
+            if sensor_path is not None:
+                bag.write('/tf', path_transform_msg(sensor_path, k, stamp, frame_id or sweep.frame_id, fixed_frame),
+                          stamp)
             for topic, msg in to_messages(sweep, stamp, frame_id).items():
                 bag.write(topic_prefix + topic, msg, stamp)
             stamps.append(stamp)
@@ -228,6 +233,19 @@ def write_sweeps_bag(path, sweeps, start_time=1000.0, period=1.0, frame_id=None,
     if progress is not None:
         progress.finish()
     return stamps
+
+
+def path_transform_msg(sensor_path, k, stamp, sweep_frame, fixed_frame=None, offset=(0.0, 0.0, 0.0)):
+    """tf2_msgs/TFMessage: fixed_frame (default sensor_path.FIXED_FRAME) <- sweep_frame at sweep k of a
+    sensor_path.SensorPath, stamped `stamp` (seconds or rospy.Time). `offset`: where the scanner's
+    optical centre is in sweep_frame (axes parallel; scan_sequence's laser_offset)."""
+    from .sensor_path import FIXED_FRAME
+    translation, quaternion = sensor_path.transform(k)
+    rotation = sensor_path.poses[k].rotation()
+    origin = np.asarray(translation) - rotation @ np.asarray(offset, float)
+    seconds = stamp.to_sec() if isinstance(stamp, rospy.Time) else float(stamp)
+    return transform_msg(seconds, tuple(float(v) for v in origin), quaternion, fixed_frame or FIXED_FRAME,
+                         sweep_frame)
 
 
 def read_bag_by_stamp(path, topics):
@@ -253,7 +271,7 @@ class SweepPublisher:
     """
 
     def __init__(self, queue_size=2, latch=False, to_messages=None,
-                 input_topics=(TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR), input_types=None):
+                 input_topics=(TOPIC_ECHO1, TOPIC_ECHO2, TOPIC_ECHO_PAIR), input_types=None, tf=False):
         self.to_messages = to_messages or sweep_to_messages
         self.input_topics = tuple(input_topics)
         self.queue_size, self.latch = queue_size, latch
@@ -266,13 +284,19 @@ class SweepPublisher:
                 self._advertise(topic, (input_types or {}).get(topic, PointCloud2))
         self._advertise(TOPIC_GROUND_TRUTH, PointCloud2)
         self._advertise(TOPIC_GROUND_TRUTH_OBJECTS, ReflectiveObjectArray)
+        if tf:
+            from tf2_msgs.msg import TFMessage
+            self.publishers['/tf'] = rospy.Publisher('/tf', TFMessage, queue_size=100)
 
     def _advertise(self, topic, kind):
         self.publishers[topic] = rospy.Publisher(topic, kind, queue_size=self.queue_size, latch=self.latch)
 
-    def publish(self, sweep, stamp=None, frame_id=None):
+    def publish(self, sweep, stamp=None, frame_id=None, transform=None):
+        """transform: a TFMessage (e.g. path_transform_msg) published on /tf before the sweep (needs tf=True)."""
         stamp = stamp if stamp is not None else rospy.Time.now()
         msgs = self.to_messages(sweep, stamp, frame_id)
+        if transform is not None:
+            self.publishers['/tf'].publish(transform)
         # Ground truth first, so an evaluator has it before the filter's outputs of this stamp.
         for topic in (TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS) + self.input_topics:
             self.publishers[topic].publish(msgs[topic])
@@ -320,9 +344,16 @@ def scan_stream_messages(stream, count, scan_frame='laser', corrupt_scans=()):
     preceded by a malformed copy (intensities shorter than ranges), for tests of the error path.
     count <= 0: without end. A generator: sweeps are simulated as they are needed."""
     geometry = stream.geometry
-    first = stream.laser_pose(0)
-    yield '/tf', stream.scan_stamp(0), transform_msg(stream.scan_stamp(0), first[0], first[1], stream.sweep_frame,
-                                                     scan_frame)
+
+    def tf_at(g):
+        translation, quaternion = stream.laser_pose(g)
+        msg = transform_msg(stream.scan_stamp(g), translation, quaternion, stream.sweep_frame, scan_frame)
+        if stream.path is not None:   # the sweep frame on its path, with the pose of the sweep scan g belongs to
+            msg.transforms += path_transform_msg(stream.path, stream.path_index(g), stream.scan_stamp(g),
+                                                 stream.sweep_frame, stream.fixed_frame, stream.laser_offset).transforms
+        return msg
+
+    yield '/tf', stream.scan_stamp(0), tf_at(0)
     j = 0
     while count <= 0 or j <= count:
         sweep = stream.sweep(j)
@@ -336,9 +367,7 @@ def scan_stream_messages(stream, count, scan_frame='laser', corrupt_scans=()):
                 if topic in (TOPIC_GROUND_TRUTH, TOPIC_GROUND_TRUTH_OBJECTS):
                     yield topic, stream.sweep_stamp(j), msg
         for scan in scans:
-            translation, quaternion = stream.laser_pose(scan.index + 1)
-            next_stamp = stream.scan_stamp(scan.index + 1)
-            yield '/tf', next_stamp, transform_msg(next_stamp, translation, quaternion, stream.sweep_frame, scan_frame)
+            yield '/tf', stream.scan_stamp(scan.index + 1), tf_at(scan.index + 1)
             if scan.index in corrupt_scans:
                 yield TOPIC_SCAN_ECHOES, scan.stamp, scan_to_msg(scan, geometry, scan_frame,
                                                                  intensities=scan.intensities[:-1])

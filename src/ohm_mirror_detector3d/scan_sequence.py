@@ -137,10 +137,15 @@ class ScanStream:
 
     `scanner` is a RotatingHokuyo (its rotation_offset is replaced per sweep; continuous by
     default, as a real unit turns). Sweeps use seeds seed, seed + 1, ...
+
+    `path` (a sensor_path.SensorPath): the scanner moves, sweep j taken at path.poses[j] (held for
+    the whole half rotation) instead of at `pose`; /tf then also carries fixed_frame <- sweep_frame
+    with each scan's transform, the pose of the sweep the scan belongs to (exact at every sweep's
+    stamp; the scan that completes the last sweep keeps the last pose).
     """
 
     def __init__(self, scene, scanner=None, pose=None, seed=0, start_time=1000.0, laser_offset=(0.0, 0.0, 0.0),
-                 sweep_frame='base_link', physics=None):
+                 sweep_frame='base_link', physics=None, path=None, fixed_frame=None):
         scanner = scanner if scanner is not None else RotatingHokuyo(continuous=True)
         self.scanners = [replace(scanner, rotation_offset=0.0), replace(scanner, rotation_offset=math.pi)]
         self.simulators = [SweepSimulator(scene, s, physics) for s in self.scanners]
@@ -149,6 +154,11 @@ class ScanStream:
         self.pose, self.seed, self.start_time = pose, seed, float(start_time)
         self.laser_offset = tuple(float(v) for v in laser_offset)
         self.sweep_frame = sweep_frame
+        self.path, self.fixed_frame = path, fixed_frame
+
+    def path_index(self, g):
+        """The pose of the path that scan g is taken at."""
+        return min(g // self.scans_per_sweep, len(self.path) - 1)
 
     @property
     def scans_per_sweep(self):
@@ -166,7 +176,8 @@ class ScanStream:
 
     def sweep(self, j):
         """Sweep j in the scanner frame (simulate.Sweep), as its scans see it."""
-        return self.simulators[j % 2].sweep(seed=self.seed + j, pose=self.pose)
+        pose = self.pose if self.path is None else self.path.poses[self.path_index(j * self.scans_per_sweep)]
+        return self.simulators[j % 2].sweep(seed=self.seed + j, pose=pose)
 
     def ground_truth(self, sweep):
         """The sweep with ground truth and objects in the sweep frame."""

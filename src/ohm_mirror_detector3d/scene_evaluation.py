@@ -118,16 +118,18 @@ def scanner_of(case):
     return scanners.preset(case.family)
 
 
-def filter_case(pipeline, sweep, mode):
+def filter_case(pipeline, sweep, mode, pose=None):
     """The sweep through the pipeline in `mode`: (ground truth, labelled, cleaned, objects), with
-    labelled and cleaned keyed by the ground truth's (echo, beam)."""
+    labelled and cleaned keyed by the ground truth's (echo, beam). `pose` (the sweep's 4 x 4
+    fixed_from_sweep) is passed on as `pose=` when given; a single-sweep pipeline gets none."""
+    extra = {} if pose is None else {'pose': pose}
     if mode == 'pair':
         shape = (sweep.rows, sweep.cols)
-        result = pipeline.filter(sweep.echo1.reshape(shape), sweep.echo2.reshape(shape))
+        result = pipeline.filter(sweep.echo1.reshape(shape), sweep.echo2.reshape(shape), **extra)
         return sweep.ground_truth, result.labelled, result.cleaned, result.objects
     from .dual_return_cloud import dual_return_arrays
     cloud, ground_truth, (echo, beam) = dual_return_arrays(sweep)
-    result = pipeline.filter_dual_return(cloud)
+    result = pipeline.filter_dual_return(cloud, **extra)
     labelled, cleaned = result.labelled, result.cleaned
     # labelled keeps the cloud's order; its echo and beam name the filter's grid cell, which the
     # cleaned points carry too: map cells to cloud points, cloud points to ground-truth keys.

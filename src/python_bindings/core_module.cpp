@@ -277,6 +277,14 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["landing_fitness"] = static_cast<double>(e.landing_fitness);
   d["plane_refined"] = e.plane_refined;
   d["plane_correction"] = static_cast<double>(e.plane_correction);
+  const core::IntensityFeatures& intensity = object.intensity;
+  d["intensity_echoes"] = intensity.echoes;
+  d["intensity_off_peak"] = intensity.off_peak;
+  d["intensity_faint_share"] = static_cast<double>(intensity.faint_share);
+  d["intensity_haze"] = static_cast<double>(intensity.haze);
+  d["intensity_echo_ratio"] = static_cast<double>(intensity.echo_ratio);
+  d["intensity_log_odds"] = static_cast<double>(intensity.log_odds);
+  d["intensity_typed"] = intensity.typed;
   return d;
 }
 

@@ -50,6 +50,16 @@ TEST(StageConfigs, EachStageGetsItsOwnValuesFromTheParameters)
   EXPECT_FALSE(core::stageConfigs(core::Params()).growth.enabled);
 }
 
+bool differsIn(const core::FeatureModel& a, const core::FeatureModel& b)
+{
+  return a.mirror != b.mirror || a.glass != b.glass || a.sigma != b.sigma;
+}
+
+bool differsIn(const core::IntensityModel& a, const core::IntensityModel& b)
+{
+  return differsIn(a.haze, b.haze) || differsIn(a.faint_share, b.faint_share) || differsIn(a.echo_ratio, b.echo_ratio);
+}
+
 TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
 {
   // A parameter that no stage config changes with is a parameter nothing reads.
@@ -90,7 +100,9 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.object_map.merge_gap != before.object_map.merge_gap ||
         after.object_map.cell_size != before.object_map.cell_size ||
         after.object_map.forgetting != before.object_map.forgetting ||
-        after.object_map.type_log_odds != before.object_map.type_log_odds;
+        after.object_map.type_log_odds != before.object_map.type_log_odds ||
+        after.intensity.enabled != before.intensity.enabled ||
+        after.intensity.type_log_odds != before.intensity.type_log_odds || differsIn(after.intensity.model, before.intensity.model);
     EXPECT_TRUE(differs) << param.name << " reaches no stage";
   }
 }

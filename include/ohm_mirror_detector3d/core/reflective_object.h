@@ -58,6 +58,19 @@ struct TypeEvidence
   float plane_correction = 0.0f;
 };
 
+// What the intensities of the object's echoes said in this sweep (intensity_evidence.h; all NaN
+// and zero unless intensity_evidence is on and the input has intensities).
+struct IntensityFeatures
+{
+  std::size_t echoes = 0;    // returns on the plane, inside the rectangle
+  std::size_t off_peak = 0;  // of those, beyond the specular peak
+  float faint_share = std::numeric_limits<float>::quiet_NaN();
+  float haze = std::numeric_limits<float>::quiet_NaN();
+  float echo_ratio = std::numeric_limits<float>::quiet_NaN();
+  float log_odds = 0.0f;  // of mirror against glass, this sweep alone (0: no evidence)
+  bool typed = false;     // the geometry left it unknown; the intensities typed it
+};
+
 struct ReflectiveObject
 {
   std::uint32_t id = 0;
@@ -109,6 +122,7 @@ struct ReflectiveObject
   LandingTolerance landing_tolerance;
 
   TypeEvidence evidence;
+  IntensityFeatures intensity;
 
   // Corners in order around the rectangle: centre -+ w/2 -+ h/2.
   std::array<Eigen::Vector3f, 4> corners() const;

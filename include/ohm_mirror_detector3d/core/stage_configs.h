@@ -9,6 +9,7 @@
 
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
 #include "ohm_mirror_detector3d/core/echo_comparison.h"
+#include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/mixed_pixels.h"
 #include "ohm_mirror_detector3d/core/object_extraction.h"
 #include "ohm_mirror_detector3d/core/object_map.h"
@@ -35,6 +36,7 @@ struct StageConfigs
   ObjectGrowthConfig growth;  // mirror_growth.h and glass_growth.h
   ReflectionChainConfig reflection_chains;
   ObjectMapConfig object_map;  // post_filter.h
+  IntensityEvidenceConfig intensity;
 };
 
 // With outlierFilter_searchRadius automatic the outlier filter, its errorSurface pass and the

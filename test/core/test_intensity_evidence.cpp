@@ -1,0 +1,199 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/intensity_evidence.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
+
+namespace ohm_mirror_detector3d
+{
+namespace
+{
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kPlaneX = 2.0f;  // the object: the plane x = 2, y and z in [-0.5, 0.5], facing the sensor
+
+core::ReflectiveObject object(core::ObjectType type = core::ObjectType::unknown)
+{
+  core::ReflectiveObject o;
+  o.type = type;
+  o.plane = Eigen::Vector4f(-1.0f, 0.0f, 0.0f, kPlaneX);
+  o.centre = Eigen::Vector3f(kPlaneX, 0.0f, 0.0f);
+  o.width_axis = Eigen::Vector3f::UnitY();
+  o.height_axis = Eigen::Vector3f::UnitZ();
+  o.width = o.height = 1.0f;
+  return o;
+}
+
+struct Echo
+{
+  Eigen::Vector3f point;
+  float intensity;
+};
+
+// A 1 x N sweep: per beam its near and far echo (far NaN: a single echo).
+core::Sweep sweepOf(const std::vector<std::pair<Echo, Echo>>& beams)
+{
+  core::Sweep sweep;
+  sweep.resize(1, beams.size());
+  sweep.has_intensity = true;
+  for (std::size_t i = 0; i < beams.size(); ++i)
+  {
+    sweep.echoes[0].points[i] = beams[i].first.point;
+    sweep.echoes[0].intensities[i] = beams[i].first.intensity;
+    sweep.echoes[1].points[i] = beams[i].second.point;
+    sweep.echoes[1].intensities[i] = beams[i].second.intensity;
+  }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return sweep;
+}
+
+const Echo kNone{ Eigen::Vector3f::Constant(kNaN), kNaN };
+
+// Walls far away whose intensity * range^2 is 1: the sweep's reference (most of the beams).
+void addWalls(std::vector<std::pair<Echo, Echo>>& beams, int count)
+{
+  for (int i = 0; i < count; ++i)
+  {
+    const Eigen::Vector3f p(-4.0f, -3.0f + 0.01f * i, 1.0f);
+    beams.push_back({ Echo{ p, 1.0f / p.squaredNorm() }, kNone });
+  }
+}
+
+// A point on the object seen at incidence beyond the specular peak (y = 0.4: atan(0.4 / 2) = 11 deg).
+Eigen::Vector3f offPeak(int i)
+{
+  return Eigen::Vector3f(kPlaneX, 0.4f, -0.45f + 0.03f * i);
+}
+
+float cosIncidence(const Eigen::Vector3f& p)
+{
+  return p.x() / p.norm();
+}
+
+core::IntensityEvidenceConfig config()
+{
+  return core::stageConfigs(core::Params()).intensity;
+}
+
+core::SweepContext origin()
+{
+  return core::SweepContext();
+}
+
+TEST(IntensityEvidence, MirrorHazeOverTheWholeFaceTypesAnUnknownObjectMirror)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  // A mirror's haze: off the peak, 2 % of the reference (over cos(incidence)), each with a phantom behind.
+  for (int i = 0; i < 30; ++i)
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    const float haze = 0.02f * cosIncidence(p) / p.squaredNorm();
+    beams.push_back({ Echo{ p, haze }, Echo{ p * 2.0f, 4.0f * haze } });
+  }
+  const core::Sweep sweep = sweepOf(beams);
+  const core::IntensityFeatures f =
+      core::intensityFeatures(sweep, Eigen::Vector3f::Zero(), object(), core::intensityReference(sweep), config());
+  EXPECT_EQ(f.echoes, 30u);
+  EXPECT_EQ(f.off_peak, 30u);
+  EXPECT_FLOAT_EQ(f.faint_share, 1.0f);
+  EXPECT_NEAR(f.haze, 0.02f, 1e-4f);
+  EXPECT_NEAR(f.echo_ratio, 4.0f, 1e-4f);
+  EXPECT_GT(f.log_odds, config().type_log_odds);
+  EXPECT_LE(f.log_odds, core::kMaxLogOdds);
+
+  std::vector<core::ReflectiveObject> objects{ object() };
+  core::IntensityEvidence stage(config());
+  core::SweepLabels labels;
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
+  EXPECT_TRUE(objects[0].intensity.typed);
+}
+
+TEST(IntensityEvidence, BrightFrameOffThePeakAndFaintReflectionsTypeAnUnknownObjectGlass)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  // Off the peak only the frame, as bright as a wall; near the perpendicular the saturated peak with what
+  // is seen through behind it.
+  for (int i = 0; i < 20; ++i)
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    beams.push_back({ Echo{ p, 0.8f / p.squaredNorm() }, kNone });
+  }
+  for (int i = 0; i < 10; ++i)
+  {
+    const Eigen::Vector3f p(kPlaneX, 0.0f, -0.05f + 0.01f * i);
+    beams.push_back({ Echo{ p, 50.0f }, Echo{ p * 3.0f, 50.0f * 0.001f } });
+  }
+  const core::Sweep sweep = sweepOf(beams);
+  std::vector<core::ReflectiveObject> objects{ object(), object(core::ObjectType::mirror) };
+  core::IntensityEvidence stage(config());
+  core::SweepLabels labels;
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  const core::IntensityFeatures& f = objects[0].intensity;
+  EXPECT_EQ(f.echoes, 30u);
+  EXPECT_EQ(f.off_peak, 20u);
+  EXPECT_FLOAT_EQ(f.faint_share, 0.0f);
+  EXPECT_TRUE(std::isnan(f.haze)) << "no faint echo";
+  EXPECT_NEAR(f.echo_ratio, 0.001f, 1e-6f);
+  EXPECT_LT(f.log_odds, -config().type_log_odds);
+  EXPECT_EQ(objects[0].type, core::ObjectType::glass);
+  EXPECT_TRUE(objects[0].intensity.typed);
+  // The geometry's verdict stands: intensities type only what it left unknown.
+  EXPECT_EQ(objects[1].type, core::ObjectType::mirror);
+  EXPECT_FALSE(objects[1].intensity.typed);
+  EXPECT_FLOAT_EQ(objects[1].intensity.log_odds, f.log_odds);
+}
+
+TEST(IntensityEvidence, TooFewEchoesOrNoIntensitiesSayNothing)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 50);
+  for (int i = 0; i < 4; ++i)  // fewer than kMinFeatureEchoes off the peak
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    beams.push_back({ Echo{ p, 0.02f * cosIncidence(p) / p.squaredNorm() }, kNone });
+  }
+  core::Sweep sweep = sweepOf(beams);
+  std::vector<core::ReflectiveObject> objects{ object() };
+  core::IntensityEvidence stage(config());
+  core::SweepLabels labels;
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  EXPECT_EQ(objects[0].intensity.echoes, 4u);
+  EXPECT_TRUE(std::isnan(objects[0].intensity.faint_share));
+  EXPECT_FLOAT_EQ(objects[0].intensity.log_odds, 0.0f);
+  EXPECT_EQ(objects[0].type, core::ObjectType::unknown);
+
+  sweep.has_intensity = false;
+  objects = { object() };
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  EXPECT_EQ(objects[0].intensity.echoes, 0u);
+  EXPECT_EQ(objects[0].type, core::ObjectType::unknown);
+}
+
+TEST(IntensityEvidence, FeatureLogLikelihoodRatioFavoursTheNearerMean)
+{
+  const core::FeatureModel model{ -1.6f, -2.7f, 0.35f };
+  EXPECT_GT(model.logLikelihoodRatio(-1.6f), 0.0f);
+  EXPECT_LT(model.logLikelihoodRatio(-2.7f), 0.0f);
+  EXPECT_NEAR(model.logLikelihoodRatio(-2.15f), 0.0f, 1e-5f);
+  EXPECT_NEAR(model.logLikelihoodRatio(-1.6f), 0.5f * (1.1f / 0.35f) * (1.1f / 0.35f), 1e-3f);
+}
+
+TEST(IntensityEvidence, ParameterTurnsTheStageOnWithTheModelFromTheTable)
+{
+  core::Params params;
+  EXPECT_FALSE(core::stageConfigs(params).intensity.enabled);
+  params.intensity_evidence = 1;
+  params.intensity_haze_mirror = -1.2;
+  const core::IntensityEvidenceConfig c = core::stageConfigs(params).intensity;
+  EXPECT_TRUE(c.enabled);
+  EXPECT_FLOAT_EQ(c.model.haze.mirror, -1.2f);
+  EXPECT_FLOAT_EQ(c.model.faint_share.glass, static_cast<float>(params.intensity_faint_share_glass));
+  EXPECT_FLOAT_EQ(c.plane_threshold, static_cast<float>(params.plane_threshold));
+}
+
+}  // namespace
+}  // namespace ohm_mirror_detector3d
