@@ -47,7 +47,9 @@ public:
   //   geometry (phantoms, or ambiguous: on a surface the reflection maps onto itself) or are
   //   real (transmitted, or, only when too few are transmitted or land, occluded: their
   //   reflection lies behind what the sensor saw there, where no mirror in the same room could
-  //   show anything): nothing to tell (a mirror facing open space);
+  //   show anything): nothing to tell (a mirror facing open space). When the inside says too
+  //   little, every point in the cone counts, but points seen through the border make it glass
+  //   only when the inside holds fewer than icp_min_points of them (a small patch);
   // - glass when a clear share of those is real: the surface lets the sensor through
   //   (reflections in it are its phantoms; a pane at an oblique angle has many);
   // - mirror otherwise, if its landing points land within icp_fitness_threshold (mean squared)
