@@ -220,5 +220,58 @@ TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)
   EXPECT_GT(object.evidence.undecided_points, 100u);
 }
 
+// A corridor along x (floor and ceiling at z = -+0.8, side walls at y = -+1.2, no ends): every
+// surface in it is perpendicular to a surface across it at x = 2, which maps it onto itself.
+bool corridorFloor(const Eigen::Vector3f&)
+{
+  return true;
+}
+std::vector<test::Wall> corridor()
+{
+  return { { 2, -0.8f, corridorFloor }, { 2, 0.8f, corridorFloor }, { 1, -1.2f, corridorFloor },
+           { 1, 1.2f, corridorFloor } };
+}
+
+TEST(ObjectType, ReflectionsLandingOnSurfacesTheMirrorMapsOntoThemselvesMakeAMirror)
+{
+  // A mirror across the corridor shows floor, ceiling and side walls: every point behind it
+  // lands on seen geometry, but on a surface the reflection maps onto itself (ambiguous), none
+  // on a surface that would tell a phantom by itself. That every point lands is what a mirror
+  // shows; counting only the decided phantoms left it unknown.
+  const core::Sweep sweep = test::rangeImage(corridor());
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::mirror);
+  EXPECT_GT(object.evidence.ambiguous_points, 100u);
+  EXPECT_LT(object.evidence.phantom_points, object.evidence.ambiguous_points / 10);
+  EXPECT_EQ(object.evidence.transmitted_points, 0u);
+}
+
+TEST(ObjectType, GlassAcrossACorridorIsGlassThoughItsFloorLandsOnItself)
+{
+  // The same corridor with a wall 3 m beyond the pane, seen through it: its reflection would lie
+  // at x = -1, where the sensor sees down the corridor further. The floor and walls behind the
+  // pane are ambiguous and must not outweigh it.
+  std::vector<test::Wall> walls = corridor();
+  walls.push_back({ 0, 5.0f, test::everywhere });
+  const core::Sweep sweep = test::rangeImage(walls);
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::glass);
+  EXPECT_GT(object.evidence.ambiguous_points, 50u);
+  EXPECT_GT(object.evidence.transmitted_points, 100u);
+}
+
+TEST(ObjectType, ASmallPatchOfGlassWithEverythingBehindSeenThroughIsGlass)
+{
+  // A pane found only where the beams meet it near perpendicular: a 30 x 30 cm patch, whose
+  // inside (away from the border) holds some 25 of the 1-degree beams, fewer than icp_min_points.
+  // Every point behind it is seen through (its reflection at x = -1, the sensor sees the wall at
+  // x = -2): the whole cone decides.
+  const core::Sweep sweep = test::rangeImage({ { 0, -2.0f, test::everywhere }, { 0, 5.0f, test::everywhere } });
+  core::ReflectiveObject object = test::wallObject(2.0f, 0.3f, 0.3f);
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::glass);
+  EXPECT_GE(object.evidence.transmitted_points, 30u);
+  EXPECT_EQ(object.evidence.phantom_points, 0u);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d
