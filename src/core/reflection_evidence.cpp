@@ -48,28 +48,15 @@ constexpr float kWindowSlack = 0.01f;
 // times range times angle: returns that differ by more than that lie on different surfaces.
 constexpr float kMaxGrazingSlope = 5.67f;
 
-// A surface whose normal is within this of being perpendicular to the plane (sin of 5.7 deg)
-// is taken to map onto itself under the reflection: about three times the error of the patch
-// normal below (1 cm of range noise on nine samples some 15 cm apart turns it by about 0.03).
-// Wider, a mirror's phantoms on walls at a slant become ambiguous and its type is lost
-// (measured on random scenes 1000-1004 with sin 8 and 15 deg).
-constexpr float kSelfSymmetricNormal = 0.10f;
-
-// The normal of the surface where a reflection lands is fitted to returns about this many
-// landing tolerances from it (the tolerance covers several sigma of range noise: returns 1-2 cm
-// a beam step apart, as near sensors at 1-3 m give, have a normal that 1 cm of noise turns by
-// tens of degrees; returns 15 cm apart one that it turns by a few). They are sampled in this
-// many directions around the landing point, each the return nearest the direction a patch
-// radius out (halved up to kPatchHalvings times where that return is further than twice the
-// radius: a floor at grazing incidence stretches an angle into a long way).
-constexpr float kPatchTolerances = 1.5f;
-constexpr int kPatchDirections = 8;
-constexpr int kPatchHalvings = 2;
-// The patch is a surface (and its normal trustworthy) when enough samples were found and their
-// covariance is not a line and is flat (ratios of ascending eigenvalues).
-constexpr int kMinPatchSamples = 5;
+// A surface whose normal is within this of being perpendicular to the plane (sin of 15 deg)
+// is taken to map onto itself under the reflection: the normal of a few returns a beam step
+// apart is no more precise than that.
+constexpr float kSelfSymmetricNormal = 0.2588f;
+// A neighbourhood is a surface (and its normal trustworthy) when its covariance is not a line
+// and is flat (ratios of ascending eigenvalues).
 constexpr float kMinSurfaceSpread = 0.05f;
 constexpr float kMaxSurfaceThickness = 0.25f;
+constexpr std::size_t kMinSurfaceCandidates = 4;
 
 float median(std::vector<float>& values)
 {
@@ -298,70 +285,6 @@ void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, const Eig
   }
 }
 
-Eigen::Vector3f ReflectionEvidence::surfaceNormalAround(const Eigen::Vector3f& along, float seen, float patch_radius) const
-{
-  const Eigen::Vector3f centre = seen * along;
-  const Eigen::Vector3f helper = std::fabs(along.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
-  const Eigen::Vector3f e1 = along.cross(helper).normalized();
-  const Eigen::Vector3f e2 = along.cross(e1);
-  const float reach_squared = 4.0f * patch_radius * patch_radius;
-  // At least a step out, so that the samples are other returns than the ones around q.
-  const float patch_angle = std::max(patch_radius / seen, step_);
-
-  std::array<Eigen::Vector3f, kPatchDirections + 1> samples;
-  samples[0] = centre;
-  int sample_count = 1;
-  for (int k = 0; k < kPatchDirections; ++k)
-  {
-    const float phi = 2.0f * static_cast<float>(M_PI) * static_cast<float>(k) / kPatchDirections;
-    const Eigen::Vector3f sideways = std::cos(phi) * e1 + std::sin(phi) * e2;
-    float angle = patch_angle;
-    for (int halving = 0; halving <= kPatchHalvings; ++halving, angle *= 0.5f)
-    {
-      const Eigen::Vector3f direction = along + angle * sideways;
-      const Eigen::Vector3f unit = direction.normalized();
-      float best_cosine = -1.0f;
-      Eigen::Vector3f best = Eigen::Vector3f::Zero();
-      forEachNear(direction, unit, [&](const Eigen::Vector3f& x) {
-        if ((x - centre).squaredNorm() > reach_squared)
-          return;
-        const float cosine = x.dot(unit) / x.norm();
-        if (cosine > best_cosine)
-        {
-          best_cosine = cosine;
-          best = x;
-        }
-      });
-      if (best_cosine > 0.0f)
-      {
-        samples[static_cast<std::size_t>(sample_count++)] = best;
-        break;
-      }
-      if (angle * 0.5f < step_)
-        break;
-    }
-  }
-  if (sample_count < kMinPatchSamples)
-    return Eigen::Vector3f::Zero();
-  Eigen::Vector3f mean = Eigen::Vector3f::Zero();
-  for (int k = 0; k < sample_count; ++k)
-    mean += samples[static_cast<std::size_t>(k)];
-  mean /= static_cast<float>(sample_count);
-  Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();
-  for (int k = 0; k < sample_count; ++k)
-  {
-    const Eigen::Vector3f d = samples[static_cast<std::size_t>(k)] - mean;
-    covariance += d * d.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
-  solver.computeDirect(covariance);
-  const Eigen::Vector3f spread_values = solver.eigenvalues();
-  if (spread_values[1] >= kMinSurfaceSpread * spread_values[2] &&
-      spread_values[0] <= kMaxSurfaceThickness * spread_values[1])
-    return solver.eigenvectors().col(0);
-  return Eigen::Vector3f::Zero();
-}
-
 ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p,
                                         const LandingTolerance& tolerance) const
 {
@@ -387,6 +310,7 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
   struct Candidate
   {
     float a, b, depth, range;
+    Eigen::Vector3f point;
   };
   std::array<Candidate, kMaxCandidates> candidates;
   std::size_t count = 0;
@@ -409,7 +333,7 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
       nearest[quadrant] = static_cast<int>(count);
       nearest_offset[quadrant] = offset;
     }
-    candidates[count++] = Candidate{ a, b, depth, x.norm() };
+    candidates[count++] = Candidate{ a, b, depth, x.norm(), x };
   });
   std::array<int, 4> corners;
   std::size_t corner_count = 0;
@@ -497,10 +421,46 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
 
   // q lies on a surface. If that surface is perpendicular to the plane, the reflection maps it
   // onto itself: a real point on it behind the plane (the floor seen through glass) would land
-  // here as well as a phantom of it (the floor seen in a mirror). Its normal comes from a patch
-  // of metric size around where q lands (surfaceNormalAround); without one (an edge, a corner,
-  // too few returns) its orientation is unknown and so is the answer.
-  const Eigen::Vector3f surface_normal = surfaceNormalAround(along, seen, kPatchTolerances * tol);
+  // here as well as a phantom of it (the floor seen in a mirror). Its normal comes from the
+  // corners' fit (the plane through the returns around q's direction), else from the returns
+  // around q on it (their covariance; slower, so only without a fit); without either its
+  // orientation is unknown and so is the answer.
+  Eigen::Vector3f surface_normal = Eigen::Vector3f::Zero();
+  if (fitted)
+    surface_normal =
+        (static_cast<float>(fit[0]) * along + static_cast<float>(fit[1]) * e1 + static_cast<float>(fit[2]) * e2)
+            .normalized();
+  else
+  {
+    auto onSurface = [&](const Candidate& c) {
+      return std::fabs(c.range - seen) <= tol + kMaxGrazingSlope * seen * std::sqrt(c.a * c.a + c.b * c.b);
+    };
+    Eigen::Vector3f mean = Eigen::Vector3f::Zero();
+    std::size_t on_surface = 0;
+    for (std::size_t k = 0; k < count; ++k)
+      if (onSurface(candidates[k]))
+      {
+        mean += candidates[k].point;
+        ++on_surface;
+      }
+    if (on_surface >= kMinSurfaceCandidates)
+    {
+      mean /= static_cast<float>(on_surface);
+      Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();
+      for (std::size_t k = 0; k < count; ++k)
+        if (onSurface(candidates[k]))
+        {
+          const Eigen::Vector3f d = candidates[k].point - mean;
+          covariance += d * d.transpose();
+        }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
+      solver.computeDirect(covariance);
+      const Eigen::Vector3f spread_values = solver.eigenvalues();
+      if (spread_values[1] >= kMinSurfaceSpread * spread_values[2] &&
+          spread_values[0] <= kMaxSurfaceThickness * spread_values[1])
+        surface_normal = solver.eigenvectors().col(0);
+    }
+  }
   // Exactly: a real point on that surface behind the plane lands within tol when twice its
   // distance behind times |n_surface . n| is below tol; the normal's own uncertainty widens it.
   const float symmetric = std::max(kSelfSymmetricNormal, behind > 0.0f ? tol / (2.0f * behind) : 1.0f);

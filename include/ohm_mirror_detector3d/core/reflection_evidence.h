@@ -73,11 +73,6 @@ private:
   template <typename Visit>
   void forEachNear(const Eigen::Vector3f& direction, const Eigen::Vector3f& unit, Visit visit) const;
 
-  // The unit normal of the surface seen at range `seen` in direction `along` (unit, relative to
-  // the origin), fitted to returns about patch_radius [m] around it; zero when they are no
-  // flat surface.
-  Eigen::Vector3f surfaceNormalAround(const Eigen::Vector3f& along, float seen, float patch_radius) const;
-
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   float step_ = 0.0f;       // the sweep's coarser angular step [rad]
   float radius_ = 0.0f;     // angular window around a direction [rad]
