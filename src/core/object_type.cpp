@@ -134,13 +134,12 @@ private:
 // What the tested points behind an object said, by outcome (those that weigh for its type).
 struct OutcomeCounts
 {
-  std::size_t tested = 0, phantoms = 0, ambiguous = 0, transmitted = 0, occluded = 0;
+  std::size_t tested = 0, phantoms = 0, transmitted = 0, occluded = 0;
 
   void add(ReflectionOutcome outcome)
   {
     ++tested;
     phantoms += outcome == ReflectionOutcome::phantom ? 1 : 0;
-    ambiguous += outcome == ReflectionOutcome::ambiguous ? 1 : 0;
     transmitted += outcome == ReflectionOutcome::transmitted ? 1 : 0;
     occluded += outcome == ReflectionOutcome::occluded ? 1 : 0;
   }
@@ -361,23 +360,15 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   if (landing_count > 0)
     result.landing_fitness = static_cast<float>(squared_landing / static_cast<double>(landing_count));
 
-  // Points that land on seen geometry (phantoms, and ambiguous ones: on a floor, ceiling or side
-  // wall that the reflection maps onto itself) and points seen through decide; only without
-  // enough of them do the occluded ones count as real (a mirror's phantoms hidden by furniture
-  // would otherwise make it glass). An ambiguous point tells a phantom from a real point no
-  // better than the surface it lands on, but it is what a mirror shows: behind a mirror every
-  // point lands (most of a mirror's view is floor, ceiling and walls at a slant), behind glass
-  // the walls and objects beyond are seen through. Counting only the decided phantoms left a
-  // mirror whose phantoms lie on its floor and walls with the few real points of sampling gaps
-  // (random scenes 1000-1019: types right 19/11/25/18 -> 23/16/25/19 of 28/23/29/33).
+  // Phantoms and points seen through decide; only without enough of them do the occluded ones
+  // count as real (a mirror's phantoms hidden by furniture would otherwise make it glass).
   struct Decisive
   {
-    std::size_t landing, real;
+    std::size_t phantoms, real;
   };
   auto decisive = [&](const OutcomeCounts& c) {
-    const std::size_t landing = c.phantoms + c.ambiguous;
-    const bool seen_enough = estimated(landing + c.transmitted) >= min_points;
-    return Decisive{ landing, c.transmitted + (seen_enough ? 0 : c.occluded) };
+    const bool seen_enough = estimated(c.phantoms + c.transmitted) >= min_points;
+    return Decisive{ c.phantoms, c.transmitted + (seen_enough ? 0 : c.occluded) };
   };
   // The inside of the rectangle decides; when it says too little, every point in the cone does.
   // Through the border the sensor sees what lies beside the surface, real geometry, so points
@@ -385,21 +376,21 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   // pane found only where the beams meet it near perpendicular is a patch some 30 cm across,
   // whose border strip is three quarters of it, and a mirror whose inside points say nothing (it
   // shows what lies outside the sensor's field of view) must not become glass from what is seen
-  // beside it. Reflections landing on seen geometry are what a mirror shows wherever they are
+  // beside it. Phantoms are what a mirror shows wherever they are
   // (random scenes 1000-1019: small panes with every point behind seen through, and mirrors with
   // their phantoms in the border, stayed unknown).
   Decisive evidence_points = decisive(inside);
-  const bool from_inside = estimated(evidence_points.landing + evidence_points.real) >= min_points;
+  const bool from_inside = estimated(evidence_points.phantoms + evidence_points.real) >= min_points;
   if (!from_inside)
     evidence_points = decisive(everywhere);
-  const std::size_t decided = evidence_points.landing + evidence_points.real;
+  const std::size_t decided = evidence_points.phantoms + evidence_points.real;
   if (estimated(decided) < min_points)
     return;
   const bool small_inside = estimated(inside.tested) < min_points;
   result.real_fraction = static_cast<float>(evidence_points.real) / static_cast<float>(decided);
   if (result.real_fraction >= kGlassRealFraction && (from_inside || small_inside))
     object.type = ObjectType::glass;
-  else if (static_cast<double>(evidence_points.landing) >= config_.icp_min_inlier_fraction * decided &&
+  else if (static_cast<double>(evidence_points.phantoms) >= config_.icp_min_inlier_fraction * decided &&
            result.landing_fitness <= static_cast<float>(config_.icp_fitness_threshold))
     object.type = ObjectType::mirror;
 }

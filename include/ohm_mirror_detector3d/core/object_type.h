@@ -22,7 +22,7 @@ struct ObjectTypeConfig
   double icp_max_distance;         // [m]: landing tolerance at the sensor, reach of the plane refinement
   double icp_fitness_threshold;    // [m^2]: mean squared landing distance of a mirror's phantoms
   int icp_min_points;              // fewest phantoms to refine a plane, and decided points to type it
-  double icp_min_inlier_fraction;  // share of the decided points that must land (phantom or ambiguous) for a mirror
+  double icp_min_inlier_fraction;  // share of the decided points that must be phantoms for a mirror
 };
 
 class ObjectTypeAnalyzer
@@ -43,17 +43,16 @@ public:
   //   plane, fitted to its surface echoes, is good to a few tenths of a degree; reflection
   //   multiplies that by the distance behind), and the sample tested again;
   // - unknown when fewer than icp_min_points of the points inside its rectangle (away from its
-  //   border, where points beside the surface are seen through the grown cone) land on seen
-  //   geometry (phantoms, or ambiguous: on a surface the reflection maps onto itself) or are
-  //   real (transmitted, or, only when too few are transmitted or land, occluded: their
+  //   border, where points beside the surface are seen through the grown cone) are phantoms or
+  //   real (transmitted, or, only when too few are transmitted or phantoms, occluded: their
   //   reflection lies behind what the sensor saw there, where no mirror in the same room could
   //   show anything): nothing to tell (a mirror facing open space). When the inside says too
   //   little, every point in the cone counts, but points seen through the border make it glass
   //   only when the inside holds fewer than icp_min_points of them (a small patch);
   // - glass when a clear share of those is real: the surface lets the sensor through
   //   (reflections in it are its phantoms; a pane at an oblique angle has many);
-  // - mirror otherwise, if its landing points land within icp_fitness_threshold (mean squared)
-  //   of what the sensor saw; unknown if not.
+  // - mirror otherwise, if its phantoms land within icp_fitness_threshold (mean squared) of what
+  //   the sensor saw; unknown if not.
   void analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                const ReflectionEvidence& evidence, ReflectiveObject& object);
 
