@@ -131,20 +131,6 @@ private:
   std::vector<char> marked_;
 };
 
-// What the tested points behind an object said, by outcome (those that weigh for its type).
-struct OutcomeCounts
-{
-  std::size_t tested = 0, phantoms = 0, transmitted = 0, occluded = 0;
-
-  void add(ReflectionOutcome outcome)
-  {
-    ++tested;
-    phantoms += outcome == ReflectionOutcome::phantom ? 1 : 0;
-    transmitted += outcome == ReflectionOutcome::transmitted ? 1 : 0;
-    occluded += outcome == ReflectionOutcome::occluded ? 1 : 0;
-  }
-};
-
 // Standard deviation of the tilt of a plane fitted to `surface` (least squares: residual
 // variance over the points' second moment along the rectangle's shorter spread), clamped to
 // [kMinTiltUncertainty, kMaxTiltUncertainty].
@@ -331,7 +317,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
 
   // What the sample said.
   std::size_t counts[kReflectionOutcomeCount] = {};
-  OutcomeCounts inside, everywhere;
+  std::size_t inside_phantoms = 0, inside_transmitted = 0, inside_occluded = 0;
   double squared_landing = 0.0;
   std::size_t landing_count = 0;
   for (std::size_t s = 0; s < samples; ++s)
@@ -343,9 +329,11 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
       squared_landing += static_cast<double>(t.range_difference) * t.range_difference;
       ++landing_count;
     }
-    everywhere.add(t.outcome);
-    if (b.sample_inside[s])
-      inside.add(t.outcome);
+    if (!b.sample_inside[s])
+      continue;
+    inside_phantoms += t.outcome == ReflectionOutcome::phantom ? 1 : 0;
+    inside_transmitted += t.outcome == ReflectionOutcome::transmitted ? 1 : 0;
+    inside_occluded += t.outcome == ReflectionOutcome::occluded ? 1 : 0;
   }
   auto estimated = [weight](std::size_t n) {
     return static_cast<std::size_t>(std::lround(static_cast<double>(n) * weight));
@@ -362,35 +350,15 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
 
   // Phantoms and points seen through decide; only without enough of them do the occluded ones
   // count as real (a mirror's phantoms hidden by furniture would otherwise make it glass).
-  struct Decisive
-  {
-    std::size_t phantoms, real;
-  };
-  auto decisive = [&](const OutcomeCounts& c) {
-    const bool seen_enough = estimated(c.phantoms + c.transmitted) >= min_points;
-    return Decisive{ c.phantoms, c.transmitted + (seen_enough ? 0 : c.occluded) };
-  };
-  // The inside of the rectangle decides; when it says too little, every point in the cone does.
-  // Through the border the sensor sees what lies beside the surface, real geometry, so points
-  // seen through there make it glass only when the inside is too small to show them itself: a
-  // pane found only where the beams meet it near perpendicular is a patch some 30 cm across,
-  // whose border strip is three quarters of it, and a mirror whose inside points say nothing (it
-  // shows what lies outside the sensor's field of view) must not become glass from what is seen
-  // beside it. Phantoms are what a mirror shows wherever they are
-  // (random scenes 1000-1019: small panes with every point behind seen through, and mirrors with
-  // their phantoms in the border, stayed unknown).
-  Decisive evidence_points = decisive(inside);
-  const bool from_inside = estimated(evidence_points.phantoms + evidence_points.real) >= min_points;
-  if (!from_inside)
-    evidence_points = decisive(everywhere);
-  const std::size_t decided = evidence_points.phantoms + evidence_points.real;
-  if (estimated(decided) < min_points)
+  const bool seen_enough = estimated(inside_phantoms + inside_transmitted) >= min_points;
+  const std::size_t inside_real = inside_transmitted + (seen_enough ? 0 : inside_occluded);
+  const std::size_t inside_decided = inside_phantoms + inside_real;
+  if (estimated(inside_decided) < min_points)
     return;
-  const bool small_inside = estimated(inside.tested) < min_points;
-  result.real_fraction = static_cast<float>(evidence_points.real) / static_cast<float>(decided);
-  if (result.real_fraction >= kGlassRealFraction && (from_inside || small_inside))
+  result.real_fraction = static_cast<float>(inside_real) / static_cast<float>(inside_decided);
+  if (result.real_fraction >= kGlassRealFraction)
     object.type = ObjectType::glass;
-  else if (static_cast<double>(evidence_points.phantoms) >= config_.icp_min_inlier_fraction * decided &&
+  else if (static_cast<double>(inside_phantoms) >= config_.icp_min_inlier_fraction * inside_decided &&
            result.landing_fitness <= static_cast<float>(config_.icp_fitness_threshold))
     object.type = ObjectType::mirror;
 }

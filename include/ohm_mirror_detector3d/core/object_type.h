@@ -46,9 +46,7 @@ public:
   //   border, where points beside the surface are seen through the grown cone) are phantoms or
   //   real (transmitted, or, only when too few are transmitted or phantoms, occluded: their
   //   reflection lies behind what the sensor saw there, where no mirror in the same room could
-  //   show anything): nothing to tell (a mirror facing open space). When the inside says too
-  //   little, every point in the cone counts, but points seen through the border make it glass
-  //   only when the inside holds fewer than icp_min_points of them (a small patch);
+  //   show anything): nothing to tell (a mirror facing open space);
   // - glass when a clear share of those is real: the surface lets the sensor through
   //   (reflections in it are its phantoms; a pane at an oblique angle has many);
   // - mirror otherwise, if its phantoms land within icp_fitness_threshold (mean squared) of what
