@@ -220,5 +220,27 @@ TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)
   EXPECT_GT(object.evidence.undecided_points, 100u);
 }
 
+// A corridor along x (floor and ceiling at z = -+0.8, side walls at y = -+1.2, no ends): every
+// surface in it is perpendicular to a surface across it at x = 2, which maps it onto itself.
+std::vector<test::Wall> corridor()
+{
+  return { { 2, -0.8f, test::everywhere }, { 2, 0.8f, test::everywhere }, { 1, -1.2f, test::everywhere },
+           { 1, 1.2f, test::everywhere } };
+}
+
+TEST(ObjectType, GlassAcrossACorridorIsGlassThoughItsFloorLandsOnItself)
+{
+  // A wall 3 m beyond the pane, seen through it: its reflection would lie at x = -1, where the
+  // sensor sees down the corridor further. The floor and walls behind the pane land on
+  // themselves (ambiguous) and must not outweigh it.
+  std::vector<test::Wall> walls = corridor();
+  walls.push_back({ 0, 5.0f, test::everywhere });
+  const core::Sweep sweep = test::rangeImage(walls);
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::glass);
+  EXPECT_GT(object.evidence.ambiguous_points, 50u);
+  EXPECT_GT(object.evidence.transmitted_points, 100u);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d
