@@ -9,22 +9,29 @@ namespace core
 {
 namespace
 {
-// A sweep's type decision as evidence: +1 mirror, -1 glass, 0 unknown.
-int vote(ObjectType type)
+// A sweep's evidence on one object, in [-1, 1] (+ mirror, - glass): +-1 where the geometry
+// decided its type; where it did not, its intensity log-odds (intensity_evidence.h; 0 when that
+// stage is off) as a share of the log-odds that types an object in one sweep, so that intensity
+// evidence too weak to type in any one sweep still adds up over sweeps (an object the
+// intensities typed votes +-1 this way too).
+double vote(const ReflectiveObject& seen, double intensity_type_log_odds)
 {
-  switch (type)
+  if (!seen.intensity.typed)
   {
-    case ObjectType::mirror: return 1;
-    case ObjectType::glass: return -1;
-    default: return 0;
+    if (seen.type == ObjectType::mirror)
+      return 1.0;
+    if (seen.type == ObjectType::glass)
+      return -1.0;
   }
+  const double share = static_cast<double>(seen.intensity.log_odds) / intensity_type_log_odds;
+  return std::isfinite(share) ? std::max(-1.0, std::min(1.0, share)) : 0.0;
 }
 
 // What one sweep did to one map object: the sum of the votes of the sweep objects merged into it.
 struct Sighting
 {
   std::uint32_t id;
-  int votes;
+  double votes;
 };
 
 // Moves the origin onto the plane.
@@ -217,14 +224,14 @@ void ObjectMap::observe(const std::vector<ReflectiveObject>& objects, const Eige
       }
     }
     merged_ids[k] = id;
-    sightings.push_back(Sighting{ id, vote(seen.type) });
+    sightings.push_back(Sighting{ id, vote(seen, config_.intensity_type_log_odds) });
   }
 
   // Once per map object seen: forget a share, then add this sweep's vote.
   std::sort(sightings.begin(), sightings.end(), [](const Sighting& a, const Sighting& b) { return a.id < b.id; });
   for (std::size_t s = 0; s < sightings.size();)
   {
-    int votes = 0;
+    double votes = 0.0;
     const std::uint32_t id = sightings[s].id;
     for (; s < sightings.size() && sightings[s].id == id; ++s)
       votes += sightings[s].votes;
@@ -232,7 +239,7 @@ void ObjectMap::observe(const std::vector<ReflectiveObject>& objects, const Eige
       if (object.id == id)
       {
         const double keep = 1.0 - config_.forgetting;
-        object.mirror_log_odds = keep * object.mirror_log_odds + std::max(-1, std::min(1, votes));
+        object.mirror_log_odds = keep * object.mirror_log_odds + std::max(-1.0, std::min(1.0, votes));
         object.plane_weight *= keep;
         ++object.sweeps_seen;
       }

@@ -76,6 +76,7 @@ StageConfigs stageConfigs(const Params& params)
   configs.object_map.cell_size = params.map_cell_size;
   configs.object_map.forgetting = params.map_forgetting;
   configs.object_map.type_log_odds = params.map_type_log_odds;
+  configs.object_map.intensity_type_log_odds = params.intensity_type_log_odds;
   configs.object_map.plane_threshold = params.plane_threshold;
   configs.object_map.max_range = params.max_range;
   configs.intensity.enabled = params.intensity_evidence != 0;

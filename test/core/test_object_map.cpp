@@ -228,6 +228,40 @@ TEST(ObjectMap, TypeLogOddsAccumulatesAndForgettingBoundsItSoAMovedObjectIsRetyp
   EXPECT_EQ(ids[0], 0u);
 }
 
+TEST(ObjectMap, IntensityEvidenceTooWeakForOneSweepAddsUpOverSweeps)
+{
+  core::ObjectMapConfig config = mapConfig();
+  config.forgetting = 0.1;
+  config.type_log_odds = 1.0;
+  config.intensity_type_log_odds = 2.2;
+  core::ObjectMap map(config);
+  std::vector<std::uint32_t> ids;
+  // Left unknown by the geometry, the intensities say mirror at half the log-odds that would type
+  // it in one sweep: +0.5 per sweep, 0.5, 0.95, 1.355: a mirror from the third sweep on.
+  core::ReflectiveObject faint_mirror = patch(3.0f, 0.0f, 0.5f, 0.4f, 0.4f, ObjectType::unknown);
+  faint_mirror.intensity.log_odds = 1.1f;
+  map.observe({ faint_mirror }, Eigen::Isometry3d::Identity(), ids);
+  EXPECT_NEAR(map.objects()[0].mirror_log_odds, 0.5, 1e-6);  // 1.1f is not 1.1
+  map.observe({ faint_mirror }, Eigen::Isometry3d::Identity(), ids);
+  EXPECT_EQ(map.type(map.objects()[0]), ObjectType::unknown);
+  map.observe({ faint_mirror }, Eigen::Isometry3d::Identity(), ids);
+  EXPECT_NEAR(map.objects()[0].mirror_log_odds, 1.355, 1e-6);
+  EXPECT_EQ(map.type(map.objects()[0]), ObjectType::mirror);
+
+  // A type the geometry decided counts +-1 whatever the intensities say; one the intensities
+  // typed counts by its log-odds, within +-1.
+  core::ObjectMap second(config);
+  core::ReflectiveObject geometric_glass = patch(3.0f, 0.0f, 0.5f, 0.4f, 0.4f, ObjectType::glass);
+  geometric_glass.intensity.log_odds = 6.0f;
+  second.observe({ geometric_glass }, Eigen::Isometry3d::Identity(), ids);
+  EXPECT_DOUBLE_EQ(second.objects()[0].mirror_log_odds, -1.0);
+  core::ReflectiveObject intensity_glass = patch(3.0f, 0.0f, 0.5f, 0.4f, 0.4f, ObjectType::glass);
+  intensity_glass.intensity.typed = true;
+  intensity_glass.intensity.log_odds = -5.0f;
+  second.observe({ intensity_glass }, Eigen::Isometry3d::Identity(), ids);
+  EXPECT_DOUBLE_EQ(second.objects()[0].mirror_log_odds, -1.9);
+}
+
 TEST(ObjectMap, IdsStayWhenTheSensorMovesAndTurns)
 {
   core::ObjectMap map(mapConfig());

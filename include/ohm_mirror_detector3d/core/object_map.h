@@ -34,6 +34,9 @@ struct ObjectMapConfig
   // |log-odds| from which a map object is a mirror (positive) or glass (negative); a sweep's
   // decision adds +-1.
   double type_log_odds = 1.0;
+  // The intensity log-odds that types an object in one sweep (intensity_type_log_odds): an
+  // object the geometry left unknown adds its intensity log-odds over this, within +-1.
+  double intensity_type_log_odds = 2.2;
   // A map object labels a sweep only when the sensor lies farther than this from its plane
   // (on the plane its vision cone is degenerate) and nearer than max_range to its centre.
   double plane_threshold = 0.05;
