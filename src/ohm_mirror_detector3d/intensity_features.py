@@ -1,7 +1,8 @@
-"""Intensity features of a mirror or pane in one sweep, and their mirror/glass model (numpy only).
+"""Intensity features of a mirror or pane in one sweep, and their mirror/glass model.
 
-The features and the model of the core's intensity_evidence stage (core/intensity_evidence.h),
-computed here for a KNOWN rectangle, so that scripts/calibrate_intensity can fit the model:
+The features are the core's intensity_evidence stage's (core/intensity_evidence.h), computed by
+that stage's own code for a KNOWN rectangle (`object_features`, through the bindings), so that
+scripts/calibrate_intensity fits the model on exactly what the stage measures:
 
 * the object's echoes: every return of either echo within `plane_threshold` of its plane and
   inside its rectangle (a beam's far echo only when it lies `echo_threshold` beyond its near one);
@@ -9,14 +10,12 @@ computed here for a KNOWN rectangle, so that scripts/calibrate_intensity can fit
 * lit = intensity * range^2 / reference / cos(i), the reference being the median of intensity *
   range^2 over the sweep's returns (a diffuse surface's, roughly: the scanner's gain and units
   cancel);
-* `faint_share`: of the echoes beyond the specular peak (i > OFF_PEAK_DEG), the share that is
-  faint (FAINT_MIN <= lit < FAINT): a mirror's silvered back gives a faint haze over its whole
-  face (about 2 % of the reference in the simulator), glass almost nothing off its peak: what lies
-  on its plane there is its frame, as bright as a wall, or its own far fainter haze, seen close by
-  only; NaN with fewer than MIN_ECHOES echoes beyond the peak;
-* `haze`: the median lit of those faint echoes; NaN with fewer than MIN_ECHOES;
+* `faint_share`: of the echoes beyond the specular peak, the share that is faint: a mirror's
+  silvered back gives a faint haze over its whole face, glass almost nothing off its peak;
+* `haze`: the median lit of those faint echoes;
 * `echo_ratio`: the median far / near intensity over the beams whose near echo is on the object
-  and whose far echo lies behind it; NaN with fewer than MIN_ECHOES beams.
+  and whose far echo lies behind it;
+each NaN with too few echoes for it.
 
 The model (the parameters intensity_haze_*, intensity_faint_share_*, intensity_echo_ratio_*): per
 feature a Gaussian per type with one spread, of log10(haze), faint_share and log10(echo_ratio).
@@ -27,10 +26,10 @@ import math
 
 import numpy as np
 
-OFF_PEAK_DEG = 5.0
-FAINT = 0.1
-FAINT_MIN = 0.004
-MIN_ECHOES = 5
+from . import _core
+from .core import _points_of
+
+# As the core's kMaxFeatureLogOdds and kMaxLogOdds (core/intensity_evidence.h).
 MAX_FEATURE_LOG_ODDS = 3.0
 MAX_LOG_ODDS = 6.0
 # Feature -> (how it enters its Gaussian, its parameters' stem in the parameter table).
@@ -38,74 +37,17 @@ FEATURES = {'haze': (math.log10, 'intensity_haze'), 'faint_share': (float, 'inte
             'echo_ratio': (math.log10, 'intensity_echo_ratio')}
 
 
-def _xyz(cloud):
-    return np.stack([cloud['x'], cloud['y'], cloud['z']], axis=-1).astype(float)
-
-
-def intensity_reference(echo1, echo2):
-    """Median intensity * range^2 over every return of the sweep (NaN when none has an intensity)."""
-    values = []
-    for cloud in (echo1, echo2):
-        p = _xyz(cloud)
-        r2 = np.einsum('ij,ij->i', p, p)
-        v = cloud['intensity'].astype(float) * r2
-        values.append(v[np.isfinite(v) & (v > 0)])
-    values = np.concatenate(values)
-    return float(np.median(values)) if len(values) else float('nan')
-
-
-def _rectangle(obj):
-    corners = np.asarray(obj['corners'], float).reshape(4, 3)
-    centre = corners.mean(axis=0)
-    u, v = corners[1] - corners[0], corners[3] - corners[0]
-    width, height = np.linalg.norm(u), np.linalg.norm(v)
-    plane = np.asarray(obj['plane'], float)
-    return centre, u / width, v / height, width, height, plane[:3] / np.linalg.norm(plane[:3]), plane[3] / np.linalg.norm(plane[:3])
-
-
-def on_object(points, obj, plane_threshold):
-    """Mask of the points within plane_threshold of the object's plane and inside its rectangle."""
-    centre, u, v, width, height, normal, d = _rectangle(obj)
-    with np.errstate(invalid='ignore'):
-        near = np.abs(points @ normal + d) <= plane_threshold
-        rel = points - centre
-        inside = (np.abs(rel @ u) <= width / 2) & (np.abs(rel @ v) <= height / 2)
-    return near & inside & np.isfinite(points).all(axis=1)
-
-
-def object_features(echo1, echo2, obj, reference, plane_threshold=0.05, echo_threshold=0.05):
-    """{'echoes', 'off_peak_share', 'haze', 'echo_ratio'} of one object (a dict with corners (4, 3)
-    in order around the rectangle and plane (a, b, c, d)) in one sweep, in the sweep's frame with the
-    sensor at the origin; echo1 / echo2 structured arrays x y z intensity, index-aligned."""
-    p1, p2 = _xyz(echo1), _xyz(echo2)
-    i1, i2 = echo1['intensity'].astype(float), echo2['intensity'].astype(float)
-    r1, r2 = np.linalg.norm(p1, axis=1), np.linalg.norm(p2, axis=1)
-    # The near echo first, whatever order the input had.
-    swap = np.isfinite(r1) & np.isfinite(r2) & (r2 < r1)
-    near_p, far_p = np.where(swap[:, None], p2, p1), np.where(swap[:, None], p1, p2)
-    near_i, far_i = np.where(swap, i2, i1), np.where(swap, i1, i2)
-    near_r, far_r = np.where(swap, r2, r1), np.where(swap, r1, r2)
-    two = np.isfinite(near_r) & np.isfinite(far_r) & (far_r - near_r > echo_threshold)
-    on_near = on_object(near_p, obj, plane_threshold)
-    on_far = on_object(far_p, obj, plane_threshold) & two
-    _, _, _, _, _, normal, _ = _rectangle(obj)
-    points = np.concatenate([near_p[on_near], far_p[on_far]])
-    intensity = np.concatenate([near_i[on_near], far_i[on_far]])
-    ranges = np.linalg.norm(points, axis=1)
-    cos_i = np.abs(points @ normal) / np.maximum(ranges, 1e-9)
-    incidence = np.degrees(np.arccos(np.clip(cos_i, 0.0, 1.0)))
-    q = intensity * ranges ** 2 / reference
-    off = (incidence > OFF_PEAK_DEG) & np.isfinite(q) & (q > 0)
-    lit = q / np.maximum(cos_i, 1e-3)
-    faint = off & (lit < FAINT) & (lit >= FAINT_MIN)
-    out = {'echoes': int(len(points)), 'off_peak': int(off.sum()),
-           'faint_share': float(faint.sum() / off.sum()) if off.sum() >= MIN_ECHOES else float('nan'),
-           'haze': float(np.median(lit[faint])) if faint.sum() >= MIN_ECHOES else float('nan')}
-    pairs = on_near & two
-    ratio = far_i[pairs] / near_i[pairs]
-    ratio = ratio[np.isfinite(ratio) & (ratio > 0)]
-    out['echo_ratio'] = float(np.median(ratio)) if len(ratio) >= MIN_ECHOES else float('nan')
-    return out
+def object_features(echo1, echo2, obj, plane_threshold=0.05, echo_threshold=0.05):
+    """{'echoes', 'off_peak', 'faint_share', 'haze', 'echo_ratio'} of one object (a dict with corners
+    (4, 3) in order around the rectangle and plane (a, b, c, d)) in one sweep, in the sweep's frame
+    with the sensor at the origin; echo1 / echo2 structured float32 arrays x y z intensity,
+    index-aligned. The reference intensity is the sweep's, as the stage takes it."""
+    points1, intensity1 = _points_of(echo1, 'echo1')
+    points2, intensity2 = _points_of(echo2, 'echo2')
+    corners = np.asarray(obj['corners'], float).reshape(4, 3).tolist()
+    plane = [float(v) for v in obj['plane']]
+    return _core.intensity_features(points1, points2, intensity1, intensity2, corners, plane,
+                                    float(plane_threshold), float(echo_threshold))
 
 
 def log_odds(features, params):

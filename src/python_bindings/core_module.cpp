@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -25,6 +26,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/dual_return.h"
+#include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/labels.h"
 #include "ohm_mirror_detector3d/core/legacy_values.h"
 #include "ohm_mirror_detector3d/core/object_map_file.h"
@@ -359,6 +361,68 @@ core::SweepContext contextWithPose(const py::object& pose)
   return context;
 }
 
+// The intensity features of a known rectangle in one sweep (sensor at the origin), computed by the
+// core's intensity_evidence stage itself (intensityReference, intensityFeatures), so that
+// scripts/calibrate_intensity fits the model on exactly what the stage measures.
+py::dict intensityFeaturesOf(const py::object& echo1, const py::object& echo2, const py::object& intensity1,
+                             const py::object& intensity2, const std::array<std::array<double, 3>, 4>& corners,
+                             const std::array<double, 4>& plane, double plane_threshold, double echo_threshold)
+{
+  std::size_t rows1 = 0, cols1 = 0, rows2 = 0, cols2 = 0;
+  const py::array points1 = checkPoints(echo1, "echo1", true, rows1, cols1);
+  const py::array points2 = checkPoints(echo2, "echo2", true, rows2, cols2);
+  if (rows1 * cols1 != rows2 * cols2)
+    throw py::value_error("echo1 and echo2 must be index-aligned (the same number of points)");
+  const std::size_t n = rows1 * cols1;
+  const py::object intensities1 = checkIntensities(intensity1, "intensity1", n);
+  const py::object intensities2 = checkIntensities(intensity2, "intensity2", n);
+  const float* i1 = intensityData(intensities1);
+  const float* i2 = intensityData(intensities2);
+  if (i1 == nullptr || i2 == nullptr)
+    throw py::value_error("intensity features need the intensities of both echoes");
+  const Eigen::Vector3d normal(plane[0], plane[1], plane[2]);
+  if (!(normal.norm() > 0.0))
+    throw py::value_error("plane (a, b, c, d) needs a normal (a, b, c) that is not zero");
+
+  core::Sweep sweep;
+  sweep.resize(rows1, cols1);
+  for (int k = 0; k < 2; ++k)
+  {
+    const std::int64_t bad = copyPoints(k == 0 ? points1 : points2, sweep.echoes[k].points);
+    if (bad >= 0)
+      throwPartlyFinite(k == 0 ? "echo1" : "echo2", bad, sweep.echoes[k].points[static_cast<std::size_t>(bad)]);
+    copyIntensities(k == 0 ? i1 : i2, sweep.echoes[k].intensities);
+  }
+  sweep.has_intensity = true;
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+
+  core::ReflectiveObject object;
+  object.plane << (normal / normal.norm()).cast<float>(), static_cast<float>(plane[3] / normal.norm());
+  const auto corner = [&](std::size_t k) { return Eigen::Vector3d(corners[k][0], corners[k][1], corners[k][2]); };
+  const Eigen::Vector3d width = corner(1) - corner(0), height = corner(3) - corner(0);
+  object.centre = (0.25 * (corner(0) + corner(1) + corner(2) + corner(3))).cast<float>();
+  object.width = static_cast<float>(width.norm());
+  object.height = static_cast<float>(height.norm());
+  object.width_axis = width.normalized().cast<float>();
+  object.height_axis = height.normalized().cast<float>();
+
+  core::IntensityEvidenceConfig config;
+  config.plane_threshold = static_cast<float>(plane_threshold);
+  config.echo_threshold = static_cast<float>(echo_threshold);
+  core::IntensityFeatures f;
+  {
+    py::gil_scoped_release release;
+    f = core::intensityFeatures(sweep, Eigen::Vector3f::Zero(), object, core::intensityReference(sweep), config);
+  }
+  py::dict d;
+  d["echoes"] = f.echoes;
+  d["off_peak"] = f.off_peak;
+  d["faint_share"] = static_cast<double>(f.faint_share);
+  d["haze"] = static_cast<double>(f.haze);
+  d["echo_ratio"] = static_cast<double>(f.echo_ratio);
+  return d;
+}
+
 // The pipeline and its reused sweep. One call at a time per object (a mutex, taken with the
 // GIL released so that other Python threads run meanwhile).
 class PythonPipeline
@@ -573,6 +637,12 @@ PYBIND11_MODULE(_core, m)
       py::arg("params"), py::arg("given_names"),
       "(params, lines): the original's values given under its names alone mapped to what they meant, "
       "one line per mapped parameter (core/legacy_values.h).");
+
+  m.def("intensity_features", &intensityFeaturesOf, py::arg("echo1"), py::arg("echo2"), py::arg("intensity1"),
+        py::arg("intensity2"), py::arg("corners"), py::arg("plane"), py::arg("plane_threshold"),
+        py::arg("echo_threshold"),
+        "{echoes, off_peak, faint_share, haze, echo_ratio} of a known rectangle (corners in order around it, "
+        "plane a b c d) in one sweep with the sensor at the origin: the intensity_evidence stage's own code.");
 
   py::class_<PythonPipeline>(m, "Pipeline")
       .def(py::init<const core::Params&>(), py::arg("params"))

@@ -117,3 +117,18 @@ def test_log_odds_follow_the_model():
                                          ('glass', {'haze': 0.002}), ('glass', {'haze': 0.003})])
     assert fitted['intensity_haze_mirror'] == pytest.approx(np.mean(np.log10([0.02, 0.03])))
     assert 'intensity_faint_share_mirror' not in fitted and counts['faint_share'] == {'mirror': 0, 'glass': 0}
+
+
+def test_calibration_features_are_the_stages_own():
+    """object_features on an object the pipeline found gives what the intensity_evidence stage stored on
+    it: the calibration fits the model on exactly what the stage measures."""
+    scene = scenes.get('wall_mirror')
+    sweep = SweepSimulator(scene, scanners.preset('hokuyo_utm30lx_ew')).sweep(seed=3)
+    result = core.Pipeline(intensity_evidence=1).filter(sweep.echo1, sweep.echo2)
+    found = [o for o in result.objects if o['intensity_echoes'] >= 50]
+    assert found, 'the wall mirror gives an object with intensity features'
+    for obj in found:
+        f = features.object_features(sweep.echo1, sweep.echo2, obj)
+        assert f['echoes'] == obj['intensity_echoes'] and f['off_peak'] == obj['intensity_off_peak']
+        for name in ('faint_share', 'haze', 'echo_ratio'):
+            assert f[name] == pytest.approx(obj['intensity_' + name], nan_ok=True, rel=1e-6), name
