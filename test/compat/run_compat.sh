@@ -110,6 +110,8 @@ while IFS= read -r variable; do
   [ -n "$variable" ] && [ "${variable%%=*}" != PIP_CERT ] && pip_env+=("$variable")
 done < <(env | grep '^PIP_' || true)
 if [ -n "$pip_cert" ] && [ -f "$pip_cert" ]; then
+  # A new minbase chroot has no /etc/ssl yet (ca-certificates comes with the packages below).
+  $sudo mkdir -p "$root/etc/ssl"
   $sudo cp "$pip_cert" "$root/etc/ssl/host-pip-certificates.pem"
   pip_env+=(PIP_CERT=/etc/ssl/host-pip-certificates.pem)
 fi
