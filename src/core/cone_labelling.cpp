@@ -51,6 +51,27 @@ Label behindLabel(const ReflectiveObject& object, ReflectionOutcome outcome)
 // Beams per block for the block test below: consecutive beams of one scan line lie close
 // together, so a block's bounding box stays small, and 64 beams amortise the box tests.
 constexpr std::size_t kBlockBeams = 64;
+// A block that some cones may reach is split into sub-blocks of this many beams, each tested
+// against those cones again: its smaller box culls most of them where a cone's edge crosses
+// the block (map objects all round the sensor).
+constexpr std::size_t kSubBlockBeams = 16;
+
+// The evidence, asked for when the first point behind an object needs it.
+class LazyEvidence
+{
+public:
+  explicit LazyEvidence(const std::function<const ReflectionEvidence&()>& source) : source_(source) {}
+  const ReflectionEvidence& get()
+  {
+    if (evidence_ == nullptr)
+      evidence_ = &source_();
+    return *evidence_;
+  }
+
+private:
+  const std::function<const ReflectionEvidence&()>& source_;
+  const ReflectionEvidence* evidence_ = nullptr;
+};
 
 // Conservative whole-block test for one object's vision cone: tells when no point inside an
 // axis-aligned box can be on the surface of the object or behind it, so that the points of
@@ -133,7 +154,7 @@ private:
 // Labels the points of beams [block, block_end) of one echo, testing only the cones in
 // `reachable` (every other cone is known to miss the block).
 void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end, const std::vector<std::size_t>& reachable,
-                const std::vector<VisionCone>& cones, const ReflectionEvidence& evidence,
+                const std::vector<VisionCone>& cones, LazyEvidence& evidence,
                 std::vector<ReflectiveObject>& objects,
                 std::vector<Label>& echo_labels, std::vector<std::int32_t>& echo_assignment,
                 std::vector<double>& intensity_sums, std::vector<std::size_t>& intensity_counts)
@@ -176,7 +197,7 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
     }
     else
     {
-      const ReflectionOutcome outcome = evidence.test(object.plane, echo.points[i], object.landing_tolerance).outcome;
+      const ReflectionOutcome outcome = evidence.get().test(object.plane, echo.points[i], object.landing_tolerance).outcome;
       label = behindLabel(object, outcome);
       ++object.behind_points;
       switch (outcome)
@@ -206,6 +227,16 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
                           const ReflectionEvidence& evidence, std::vector<ReflectiveObject>& objects,
                           SweepLabels& labels, ObjectAssignment& assignment) const
 {
+  apply(
+      sweep, sensor_origin, [&evidence]() -> const ReflectionEvidence& { return evidence; }, objects, labels,
+      assignment);
+}
+
+void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+                          const std::function<const ReflectionEvidence&()>& evidence_source,
+                          std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment) const
+{
+  LazyEvidence evidence(evidence_source);
   const std::size_t beams = sweep.beamCount();
   assignment.reset(beams);
   std::vector<double> intensity_sums(objects.size(), 0.0);
@@ -224,10 +255,31 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   bounds.reserve(objects.size());
   for (const ReflectiveObject& object : objects)
     bounds.emplace_back(object, sensor_origin, plane_threshold, margin);
-  // Objects whose cone the current block may reach, ascending (so that ties between cones
-  // resolve as if every cone were tested).
-  std::vector<std::size_t> reachable;
+  // Objects whose cone the current block (sub-block) may reach, ascending (so that ties between
+  // cones resolve as if every cone were tested).
+  std::vector<std::size_t> reachable, sub_reachable;
   reachable.reserve(objects.size());
+  sub_reachable.reserve(objects.size());
+  // The cones of `candidates` that may reach beams [from, to) of echo k (every one of them
+  // when the box of its labelled points is not finite).
+  const auto cull = [&](std::size_t k, std::size_t from, std::size_t to, const std::vector<std::size_t>& candidates,
+                        std::vector<std::size_t>& out) {
+    out.clear();
+    const Label* echo_labels = labels.echoes[k].data();
+    const BlockBox block_box = blockBox(sweep.echoes[k].points.data(), from, to, [echo_labels](std::size_t i) {
+      return echo_labels[i] != Label::nanPoint;
+    });
+    if (!block_box.any_non_finite && block_box.box.isEmpty())
+      return;
+    const Eigen::Vector3d low = block_box.box.min().cast<double>();
+    const Eigen::Vector3d high = block_box.box.max().cast<double>();
+    for (const std::size_t j : candidates)
+      if (block_box.any_non_finite || bounds[j].mayAffect(low, high))
+        out.push_back(j);
+  };
+  std::vector<std::size_t> all(objects.size());
+  for (std::size_t j = 0; j < objects.size(); ++j)
+    all[j] = j;
   for (std::size_t k = 0; k < 2; ++k)
   {
     const EchoCloud& echo = sweep.echoes[k];
@@ -236,21 +288,20 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
       const std::size_t block_end = std::min(beams, block + kBlockBeams);
       reachable.clear();
       if (!objects.empty())
+        cull(k, block, block_end, all, reachable);
+      if (reachable.empty())
       {
-        // Box of the block's points that get labelled here; a non-finite one tests every cone.
-        const Label* echo_labels = labels.echoes[k].data();
-        const BlockBox block_box = blockBox(echo.points.data(), block, block_end, [echo_labels](std::size_t i) {
-          return echo_labels[i] != Label::nanPoint;
-        });
-        const bool any = block_box.any_non_finite || !block_box.box.isEmpty();
-        const Eigen::Vector3d low = block_box.box.min().cast<double>();
-        const Eigen::Vector3d high = block_box.box.max().cast<double>();
-        for (std::size_t j = 0; j < objects.size(); ++j)
-          if (any && (block_box.any_non_finite || bounds[j].mayAffect(low, high)))
-            reachable.push_back(j);
+        labelBlock(echo, block, block_end, reachable, cones, evidence, objects, labels.echoes[k], assignment.echoes[k],
+                   intensity_sums, intensity_counts);
+        continue;
       }
-      labelBlock(echo, block, block_end, reachable, cones, evidence, objects, labels.echoes[k], assignment.echoes[k],
-                 intensity_sums, intensity_counts);
+      for (std::size_t sub = block; sub < block_end; sub += kSubBlockBeams)
+      {
+        const std::size_t sub_end = std::min(block_end, sub + kSubBlockBeams);
+        cull(k, sub, sub_end, reachable, sub_reachable);
+        labelBlock(echo, sub, sub_end, sub_reachable, cones, evidence, objects, labels.echoes[k],
+                   assignment.echoes[k], intensity_sums, intensity_counts);
+      }
     }
   }
   for (std::size_t j = 0; j < objects.size(); ++j)

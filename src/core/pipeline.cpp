@@ -215,21 +215,30 @@ void Pipeline::runObjectStages(const Sweep& sweep, const SweepContext& context, 
 {
   // The parameters' stages work on the objects found (without one the evidence is not built
   // for them) unless they add objects themselves; an added stage may always add objects.
+  // A stage that asks nothing of the evidence (the post-filter) gets it as it is, built or not.
+  const auto stageEvidence = [&](const ObjectStage& stage) -> const ReflectionEvidence& {
+    return stage.needsEvidence() ? evidence(sweep, context.sensorOrigin()) : evidence_;
+  };
   for (const std::unique_ptr<ObjectStage>& stage : parameter_stages_)
     if (!result_.objects.empty() || stage->runsWithoutObjects())
-      stage->process(sweep, context, evidence(sweep, context.sensorOrigin()), result_.labels, result_.objects);
+      stage->process(sweep, context, stageEvidence(*stage), result_.labels, result_.objects);
   for (const std::unique_ptr<ObjectStage>& stage : object_stages_)
-    stage->process(sweep, context, evidence(sweep, context.sensorOrigin()), result_.labels, result_.objects);
+    stage->process(sweep, context, stageEvidence(*stage), result_.labels, result_.objects);
   result_.times.object_stages = clock.lap();
 }
 
 void Pipeline::label(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, StageClock& clock)
 {
   PipelineResult& r = result_;
-  // No object: the evidence is not needed (and not built).
-  const ReflectionEvidence& sweep_evidence = r.objects.empty() ? evidence_ : evidence(sweep, sensor_origin);
-  stages_.cone_labelling.apply(sweep, sensor_origin, sweep_evidence, r.objects, r.labels, r.assignment);
+  // The evidence is built when the first point behind an object needs it (not at all without an
+  // object, nor when nothing lies behind the objects: map objects all round the sensor).
+  stages_.cone_labelling.apply(
+      sweep, sensor_origin,
+      [this, &sweep, &sensor_origin]() -> const ReflectionEvidence& { return evidence(sweep, sensor_origin); },
+      r.objects, r.labels, r.assignment);
   r.times.cone_labelling = clock.lap();
+  // Unbuilt, no point lies behind an object: the chains follow none and ask nothing.
+  const ReflectionEvidence& sweep_evidence = evidence_;
   r.reflection_chains = stages_.reflection_chains.apply(sweep, sensor_origin, sweep_evidence, r.objects, r.assignment,
                                                         r.labels, r.paths);
   r.times.reflection_chains = clock.lap();

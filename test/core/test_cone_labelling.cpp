@@ -122,6 +122,51 @@ Labelled label(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& ob
   return out;
 }
 
+TEST(ConeLabelling, TheEvidenceIsAskedForOnlyWhenAPointLiesBehindAnObject)
+{
+  // Issue 17: a sweep whose (map) objects have nothing behind them never builds the evidence;
+  // one with a point behind asks for it once and labels as the eager apply does.
+  const core::ReflectiveObject object = wallObject(2.0f, 0.6f, 0.4f, ObjectType::mirror);
+  core::ConeLabellingConfig config;
+  config.plane_threshold = 0.05;
+  config.cone_margin = 0.0;
+  const core::ConeLabelling labelling(config);
+  for (const bool behind : { false, true })
+  {
+    // First echo on the surface; the second either on it too or 1 m behind it.
+    const Eigen::Vector3f on(2.0f, 0.1f, 0.1f), back(3.0f, 0.15f, 0.15f);
+    const std::vector<test::Beam> beams(100, test::Beam{ on, behind ? back : on });
+    const core::Sweep sweep = test::makeSweep(beams);
+    core::SweepLabels labels;
+    labels.reset(sweep.beamCount(), Label::valid);
+    core::ReflectionEvidence evidence;
+    evidence.build(sweep, labels, Eigen::Vector3f::Zero());
+    int asked = 0;
+    std::vector<core::ReflectiveObject> lazy_objects{ object };
+    core::SweepLabels lazy_labels = labels;
+    core::ObjectAssignment lazy_assignment;
+    labelling.apply(
+        sweep, Eigen::Vector3f::Zero(),
+        [&]() -> const core::ReflectionEvidence& {
+          ++asked;
+          return evidence;
+        },
+        lazy_objects, lazy_labels, lazy_assignment);
+    std::vector<core::ReflectiveObject> eager_objects{ object };
+    core::SweepLabels eager_labels = labels;
+    core::ObjectAssignment eager_assignment;
+    labelling.apply(sweep, Eigen::Vector3f::Zero(), evidence, eager_objects, eager_labels, eager_assignment);
+    EXPECT_EQ(asked, behind ? 1 : 0);
+    EXPECT_EQ(lazy_objects[0].behind_points, behind ? 100u : 0u);
+    EXPECT_EQ(lazy_objects[0].behind_points, eager_objects[0].behind_points);
+    for (std::size_t k = 0; k < 2; ++k)
+    {
+      EXPECT_EQ(lazy_labels.echoes[k], eager_labels.echoes[k]);
+      EXPECT_EQ(lazy_assignment.echoes[k], eager_assignment.echoes[k]);
+    }
+  }
+}
+
 TEST(ConeLabelling, LabelsSurfaceAndBehindPointsByTheObjectsType)
 {
   const core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.1f, 0.1f }, { 3.0f, 0.1f, 0.05f } } });

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/reflection_evidence.h"
@@ -50,6 +51,12 @@ public:
   // counts of what the points behind said, and mean_surface_intensity.
   void apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const ReflectionEvidence& evidence,
              std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment) const;
+  // The same with the evidence asked for only when the first point behind an object needs it
+  // (the pipeline then builds it): a sweep in which no point lies behind any object (map
+  // objects all round, none of them with anything behind it) never builds it.
+  void apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+             const std::function<const ReflectionEvidence&()>& evidence, std::vector<ReflectiveObject>& objects,
+             SweepLabels& labels, ObjectAssignment& assignment) const;
 
 private:
   float plane_threshold_;

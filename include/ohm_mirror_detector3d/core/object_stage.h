@@ -26,6 +26,9 @@ public:
   // Whether the stage runs on sweeps in which the detect phase found no object (the others are
   // skipped there, and the per-point evidence is not built for them).
   virtual bool runsWithoutObjects() const { return false; }
+  // Whether process() reads the evidence; a stage that does not (the post-filter) gets it
+  // unbuilt, so that a sweep whose objects leave nothing behind them never builds it.
+  virtual bool needsEvidence() const { return true; }
 
   // Called once per sweep, after the detect phase and the object stages before it. `labels`
   // hold the detect phase's evidence per point (nanPoint: gated or outlier; errorSurface / error:

@@ -27,6 +27,8 @@ public:
   const char* name() const override { return "post_filter"; }
   // Known objects label sweeps that found none.
   bool runsWithoutObjects() const override { return true; }
+  // It merges and places objects; the cone labelling asks for the evidence when it needs it.
+  bool needsEvidence() const override { return false; }
 
   void process(const Sweep& sweep, const SweepContext& context, const ReflectionEvidence& evidence,
                SweepLabels& labels, std::vector<ReflectiveObject>& objects) override;
