@@ -197,7 +197,12 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
     }
     else
     {
-      const ReflectionOutcome outcome = evidence.get().test(object.plane, echo.points[i], object.landing_tolerance).outcome;
+      // Behind glass an ambiguous point is kept as real: there the landing surface's normal is
+      // worth a wider look (see ReflectionEvidence::test).
+      const ReflectionOutcome outcome =
+          evidence.get()
+              .test(object.plane, echo.points[i], object.landing_tolerance, object.type == ObjectType::glass)
+              .outcome;
       label = behindLabel(object, outcome);
       ++object.behind_points;
       switch (outcome)

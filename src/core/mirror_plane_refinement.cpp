@@ -14,11 +14,11 @@ namespace core
 namespace
 {
 constexpr int kPlaneRefinementIterations = 10;
-// Huber threshold of the refinement: this many robust sigmas (1.4826 MAD), and never below the
-// scanner's noise.
-constexpr float kHuberScale = 1.0f;
+// Tukey biweight of the refinement: correspondences beyond this many robust sigmas (1.4826 MAD)
+// weigh nothing, and the cut is never below three times the scanner's noise.
+constexpr float kTukeyScale = 3.0f;
 constexpr float kMadToSigma = 1.4826f;
-constexpr float kMinHuberThreshold = 0.01f;
+constexpr float kMinTukeyThreshold = 0.03f;
 }  // namespace
 
 PlaneRefinement MirrorPlaneRefinement::refine(RealScene& scene, const std::vector<Eigen::Vector3f>& surface,
@@ -55,7 +55,7 @@ PlaneRefinement MirrorPlaneRefinement::refine(RealScene& scene, const std::vecto
       weighted_squares += residual * residual;
       weights += 1.0;
     }
-    // Phantom residuals first, then a robust (Huber) weight from their spread: a phantom
+    // Phantom residuals first, then a robust (Tukey) weight from their spread: a phantom
     // matched to the wrong surface (a corner, a part of the room the sensor did not see)
     // must not drag the mirror.
     correspondences_.clear();
@@ -85,11 +85,12 @@ PlaneRefinement MirrorPlaneRefinement::refine(RealScene& scene, const std::vecto
     for (std::size_t c = 0; c < used; ++c)
       absolute_residuals_[c] = std::fabs(correspondences_[c].residual);
     std::nth_element(absolute_residuals_.begin(), absolute_residuals_.begin() + used / 2, absolute_residuals_.end());
-    const float huber = std::max(kHuberScale * kMadToSigma * absolute_residuals_[used / 2], kMinHuberThreshold);
+    const float tukey = std::max(kTukeyScale * kMadToSigma * absolute_residuals_[used / 2], kMinTukeyThreshold);
     for (const Correspondence& c : correspondences_)
     {
       const float magnitude = std::fabs(c.residual);
-      const double weight = phantom_weight * (magnitude <= huber ? 1.0 : huber / magnitude);
+      const double ratio = static_cast<double>(magnitude / tukey);
+      const double weight = phantom_weight * (ratio < 1.0 ? (1.0 - ratio * ratio) * (1.0 - ratio * ratio) : 0.0);
       hessian += weight * c.jacobian * c.jacobian.transpose();
       gradient += weight * c.jacobian * static_cast<double>(c.residual);
       weighted_squares += weight * static_cast<double>(c.residual) * static_cast<double>(c.residual);

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -52,6 +53,20 @@ constexpr int kRansacMaxIterations = 1000;
 constexpr std::size_t kSpacingSamples = 2048;
 
 const double kHorizontalNormalZ = 0.98480775301220806;  // cos(10 deg)
+
+// The plane of a patch is refitted on the points within 3 robust sigma of it (see
+// buildObject): 3 sigma removes a frame or wall 2-4 cm in front of a pane on every sensor family
+// (surface noise 0.3-1 cm) and keeps 99.7 % of Gaussian noise; never nearer than 1 cm, so that a
+// noise-free or quantised patch keeps its points. The kept set settles within a few rounds.
+constexpr int kPlaneTrimIterations = 10;
+constexpr double kPlaneTrimSigmas = 3.0;
+constexpr double kPlaneTrimMinCutoff = 0.01;  // [m]
+// The least-median start of the cut: a sample of at most 256 points of the patch, 200 planes
+// through three of them (with a quarter of the triples mixing in a frame's 15 % of the points,
+// some 75 trials hit three of the pane's points, spread over it).
+constexpr std::size_t kMedianSamples = 256;
+constexpr int kMedianTrials = 200;
+constexpr unsigned kMedianSeed = 12345;
 
 // Key offsets of the 62 cells in [-2, 2]^3 that come after (0, 0, 0) in lexicographic order:
 // every pair of neighbouring cells is visited once.
@@ -207,6 +222,11 @@ struct ObjectExtractor::Workspace
   std::vector<Eigen::Vector2d> hull;
   std::vector<std::pair<double, std::uint32_t>> sweep_order;
   std::vector<double> nearest;
+  std::vector<std::uint8_t> kept;       // per patch point: within the plane's trim band
+  std::vector<double> abs_residuals;    // per patch point: distance to the plane
+  std::vector<double> sorted_residuals;  // the same, partly sorted for the median
+  std::vector<Eigen::Vector3d> median_sample;  // leastMedianPlane's sample of the patch
+  std::vector<double> sample_distance;          // and its distances to a trial plane
 
   std::uint32_t findMember(std::uint32_t m)
   {
@@ -236,6 +256,10 @@ struct ObjectExtractor::Workspace
                           std::size_t count);
   bool anyPairCloser(std::uint32_t a, std::uint32_t b, float squared_distance) const;
   double typicalSpacing(const Eigen::Vector2d& sweep_direction);
+  // Replaces the plane (normal, point) of patch points begin .. begin + count by the plane
+  // through three of them that has the least median distance to a sample of them, when that
+  // median is less than the given plane's.
+  void leastMedianPlane(std::uint32_t begin, std::uint32_t count, Eigen::Vector3d& normal, Eigen::Vector3d& point);
   // Returns the patch's typical sample spacing. footprint_angle: the full angle of a beam's
   // footprint [rad].
   double buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin, double footprint_angle,
@@ -387,32 +411,154 @@ double ObjectExtractor::Workspace::typicalSpacing(const Eigen::Vector2d& sweep_d
   return *middle;
 }
 
+// Least median of squares (Rousseeuw) on a sample of the patch: planes through three sample
+// points, spread over the patch so that each is well defined, scored by the median distance of
+// the sample to them. Its 50 % breakdown point is what the least-squares start lacks. A fixed
+// generator seed keeps the extraction deterministic.
+void ObjectExtractor::Workspace::leastMedianPlane(std::uint32_t begin, std::uint32_t count, Eigen::Vector3d& normal,
+                                                  Eigen::Vector3d& point)
+{
+  if (count < 3)
+    return;
+  const std::uint32_t stride = (count + kMedianSamples - 1) / kMedianSamples;
+  median_sample.clear();
+  for (std::uint32_t k = 0; k < count; k += stride)
+    median_sample.push_back(inlier_points[patch_members[begin + k]].cast<double>());
+  const std::size_t n = median_sample.size();
+  if (n < 3)
+    return;
+  const auto medianDistance = [&](const Eigen::Vector3d& plane_normal, const Eigen::Vector3d& plane_point) {
+    sample_distance.resize(n);
+    for (std::size_t k = 0; k < n; ++k)
+      sample_distance[k] = std::fabs((median_sample[k] - plane_point).dot(plane_normal));
+    const auto middle = sample_distance.begin() + static_cast<std::ptrdiff_t>(n / 2);
+    std::nth_element(sample_distance.begin(), middle, sample_distance.end());
+    return *middle;
+  };
+  double best = medianDistance(normal, point);
+  // The spread of the sample: a triple counts when the area of its triangle is at least a
+  // tenth of the sample's extent squared (three points side by side fix no plane).
+  Eigen::Vector3d low = median_sample[0], high = median_sample[0];
+  for (const Eigen::Vector3d& x : median_sample)
+  {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+  }
+  const double min_double_area = 0.1 * (high - low).squaredNorm();
+  std::mt19937 generator(kMedianSeed);
+  std::uniform_int_distribution<std::size_t> pick(0, n - 1);
+  for (int trial = 0; trial < kMedianTrials; ++trial)
+  {
+    const Eigen::Vector3d& a = median_sample[pick(generator)];
+    const Eigen::Vector3d& b = median_sample[pick(generator)];
+    const Eigen::Vector3d& c = median_sample[pick(generator)];
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const double double_area = cross.norm();
+    if (!(double_area > min_double_area))
+      continue;
+    const Eigen::Vector3d candidate = cross / double_area;
+    const double distance = medianDistance(candidate, a);
+    if (distance < best)
+    {
+      best = distance;
+      normal = candidate;
+      point = a;
+    }
+  }
+}
+
 double ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_normal, const Eigen::Vector3f& origin,
                                                double footprint_angle, std::uint32_t patch, ReflectiveObject& object)
 {
   const std::uint32_t begin = patch_start[patch];
   const std::uint32_t end = patch_start[patch + 1];
-  const double count = static_cast<double>(end - begin);
 
-  // Least-squares plane of the patch: centroid and the direction of least variance.
+  // Plane of the patch, robust to the points of other surfaces within RANSAC's band (a frame
+  // or a wall 2-4 cm in front of a pane, echoes from just behind the glass): least squares,
+  // then again on the points within kPlaneTrimSigmas robust sigma of that plane, until the
+  // plane settles. A hard cut and plain least squares on what is kept, rather than a smooth
+  // M-estimator weight: measured on random scenes 1000-1011 (all four families, objects with
+  // >= 50 surface echoes, before the mirror refinement), Tukey's biweight at 3 sigma made the
+  // noise-limited planes of narrow patches worse (Hesai median 0.24 -> 0.26 deg), the cut made
+  // every family better (Hesai 0.24 -> 0.19, Ouster 0.18 -> 0.08, Velodyne 0.19 -> 0.17 deg;
+  // Velodyne 90th percentile 1.13 -> 0.49 deg).
+  const std::uint32_t count_points = end - begin;
+  kept.assign(count_points, 1);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (std::uint32_t m = begin; m < end; ++m)
-    centroid += inlier_points[patch_members[m]].cast<double>();
-  centroid /= count;
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (std::uint32_t m = begin; m < end; ++m)
+  Eigen::Vector3d normal = ransac_normal.cast<double>().normalized();
+  Eigen::Vector3d long_axis = Eigen::Vector3d::UnitX();
+  bool fitted = false;
+  for (int iteration = 0; iteration <= kPlaneTrimIterations; ++iteration)
   {
-    const Eigen::Vector3d d = inlier_points[patch_members[m]].cast<double>() - centroid;
-    covariance += d * d.transpose();
+    std::uint32_t kept_count = 0;
+    Eigen::Vector3d kept_centroid = Eigen::Vector3d::Zero();
+    for (std::uint32_t k = 0; k < count_points; ++k)
+    {
+      if (kept[k] == 0)
+        continue;
+      kept_centroid += inlier_points[patch_members[begin + k]].cast<double>();
+      ++kept_count;
+    }
+    // Fewer than three points kept: keep the last plane.
+    if (kept_count < 3)
+      break;
+    kept_centroid /= static_cast<double>(kept_count);
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (std::uint32_t k = 0; k < count_points; ++k)
+    {
+      if (kept[k] == 0)
+        continue;
+      const Eigen::Vector3d d = inlier_points[patch_members[begin + k]].cast<double>() - kept_centroid;
+      covariance += d * d.transpose();
+    }
+    covariance /= static_cast<double>(kept_count);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+    const Eigen::Vector3d eigenvalues = solver.eigenvalues();  // ascending
+    const Eigen::Vector3d candidate = solver.eigenvectors().col(0);
+    // Collinear points (one scan line across the object) do not fix a plane: keep RANSAC's
+    // (or the last one).
+    if (!(eigenvalues[1] > 1e-6 * eigenvalues[2]) || !candidate.allFinite())
+    {
+      if (!fitted)
+        centroid = kept_centroid;
+      break;
+    }
+    centroid = kept_centroid;
+    normal = candidate.normalized();
+    long_axis = solver.eigenvectors().col(2);
+    fitted = true;
+    if (iteration == kPlaneTrimIterations)
+      break;
+    // The first cut is made around the least-median plane: a frame at the patch's edge has
+    // the leverage to tilt the least-squares plane towards itself, until its points are as near
+    // to it as the pane's own edge, and no cut around that plane separates them.
+    Eigen::Vector3d cut_normal = normal;
+    Eigen::Vector3d cut_point = centroid;
+    if (iteration == 0)
+      leastMedianPlane(begin, count_points, cut_normal, cut_point);
+    // The scale of the residuals: 1.4826 x their median absolute value is sigma for Gaussian
+    // noise, so the cut follows the sensor's noise at the patch's range.
+    abs_residuals.resize(count_points);
+    for (std::uint32_t k = 0; k < count_points; ++k)
+      abs_residuals[k] =
+          std::fabs((inlier_points[patch_members[begin + k]].cast<double>() - cut_point).dot(cut_normal));
+    sorted_residuals = abs_residuals;
+    const auto middle = sorted_residuals.begin() + static_cast<std::ptrdiff_t>(count_points / 2);
+    std::nth_element(sorted_residuals.begin(), middle, sorted_residuals.end());
+    const double cutoff = std::max(kPlaneTrimSigmas * 1.4826 * *middle, kPlaneTrimMinCutoff);
+    bool changed = false;
+    for (std::uint32_t k = 0; k < count_points; ++k)
+    {
+      const std::uint8_t keep = abs_residuals[k] < cutoff ? 1 : 0;
+      changed = changed || keep != kept[k];
+      kept[k] = keep;
+    }
+    if (!changed)
+      break;
   }
-  covariance /= count;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-  const Eigen::Vector3d eigenvalues = solver.eigenvalues();  // ascending
-  Eigen::Vector3d normal = solver.eigenvectors().col(0);
-  // Collinear points (one scan line across the object) do not fix a plane: keep RANSAC's.
-  if (!(eigenvalues[1] > 1e-6 * eigenvalues[2]) || !normal.allFinite())
-    normal = ransac_normal.cast<double>();
-  normal.normalize();
+  // A cut that left fewer than three points (a tiny patch) did not fit a plane: keep them all.
+  if (std::count(kept.begin(), kept.end(), std::uint8_t{ 1 }) < 3)
+    kept.assign(count_points, 1);
   if (normal.dot(origin.cast<double>() - centroid) < 0.0)
     normal = -normal;
 
@@ -421,13 +567,16 @@ double ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_nor
   const Eigen::Vector3d u = normal.cross(helper).normalized();
   const Eigen::Vector3d v = normal.cross(u);
 
-  projected.resize(end - begin);
+  // The outline and the surface points are those of the plane's own points: the points cut off
+  // are another surface (a frame along the pane) and stay errorSurface without an object.
+  projected.clear();
   for (std::uint32_t m = begin; m < end; ++m)
   {
+    if (kept[m - begin] == 0)
+      continue;
     const Eigen::Vector3d d = inlier_points[patch_members[m]].cast<double>() - centroid;
-    projected[m - begin] = Eigen::Vector2d(d.dot(u), d.dot(v));
+    projected.emplace_back(d.dot(u), d.dot(v));
   }
-  const Eigen::Vector3d long_axis = solver.eigenvectors().col(2);
   Eigen::Vector2d sweep_direction(long_axis.dot(u), long_axis.dot(v));
   sweep_direction = sweep_direction.norm() > 1e-9 ? sweep_direction.normalized() : Eigen::Vector2d::UnitX();
   const double spacing = typicalSpacing(sweep_direction);
@@ -490,9 +639,10 @@ double ObjectExtractor::Workspace::buildObject(const Eigen::Vector3f& ransac_nor
   object.width = static_cast<float>(a_is_width ? rectangle.length : rectangle.breadth);
   object.height = static_cast<float>(a_is_width ? rectangle.breadth : rectangle.length);
   object.footprint = static_cast<float>(footprint);
-  object.surface_inliers.resize(end - begin);
+  object.surface_inliers.clear();
   for (std::uint32_t m = begin; m < end; ++m)
-    object.surface_inliers[m - begin] = refs[static_cast<std::size_t>(inliers[patch_members[m]])];
+    if (kept[m - begin] != 0)
+      object.surface_inliers.push_back(refs[static_cast<std::size_t>(inliers[patch_members[m]])]);
   return spacing;
 }
 

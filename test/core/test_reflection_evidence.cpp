@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/reflection_evidence.h"
@@ -82,6 +83,61 @@ TEST(ReflectionEvidence, APointOnAFloorThroughThePlaneIsAmbiguous)
   const core::ReflectionEvidence evidence = evidenceOf(rangeImage({ { 2, -1.0f, everywhere } }));
   const core::ReflectionTest test = evidence.test(kPlane, Eigen::Vector3f(3.0f, 0.4f, -1.0f), kTolerance);
   EXPECT_EQ(test.outcome, ReflectionOutcome::ambiguous) << core::reflectionOutcomeName(test.outcome);
+}
+
+// A 128-ring lidar's sampling near the sensor (0.35 deg rings, 0.18 deg columns over +-60 deg of
+// azimuth, -40 .. 0 deg of elevation) of a floor at z = -1 and a wall at x = `wall_x` beyond it,
+// with 1 cm Gaussian range noise.
+core::Sweep noisyFloorAndWall(float wall_x)
+{
+  const float degree = static_cast<float>(M_PI) / 180.0f;
+  const std::size_t rows = 115, cols = 667;
+  core::Sweep sweep;
+  sweep.resize(rows, cols);
+  std::mt19937 generator(3);
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c)
+    {
+      const float elevation = -40.0f * degree + 0.35f * degree * static_cast<float>(r);
+      const float azimuth = 180.0f * degree + (-60.0f + 0.18f * static_cast<float>(c)) * degree;
+      const Eigen::Vector3f direction(std::cos(elevation) * std::cos(azimuth),
+                                      std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      float range = direction.z() < 0.0f ? -1.0f / direction.z() : std::numeric_limits<float>::infinity();
+      range = std::min(range, wall_x / direction.x());
+      const Eigen::Vector3f point = (range + noise(generator)) * direction;
+      sweep.echoes[0].points[r * cols + c] = point;
+      sweep.echoes[1].points[r * cols + c] = point;
+    }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return sweep;
+}
+
+TEST(ReflectionEvidence, TheWideNormalTellsANoisyFloorThroughThePlaneFromAWallFacingIt)
+{
+  // Glass in the plane x = 2 behind the sensor's back (it looks towards -x: the floor, and a
+  // wall at x = -3). Real floor points behind the glass (x = 5.1 .. 6.5) land on the floor in
+  // view (x = -1.1 .. -2.5, clear of the wall's corner): ambiguous, though the test window's few returns, a ring (1-3 cm)
+  // apart with 1 cm noise, give no trustworthy normal. Points half a metre above the floor at
+  // x = 7 land on the wall, which faces the plane: phantoms.
+  const core::ReflectionEvidence evidence = evidenceOf(noisyFloorAndWall(-3.0f));
+  int floor_ambiguous = 0, floor_landed = 0, wall_phantom = 0, wall_landed = 0;
+  for (float x = 5.1f; x <= 6.5f; x += 0.1f)
+    for (float y = -1.0f; y <= 1.0f; y += 0.1f)
+    {
+      const core::ReflectionTest floor = evidence.test(kPlane, Eigen::Vector3f(x, y, -1.0f), kTolerance, true);
+      floor_landed += floor.outcome == ReflectionOutcome::phantom || floor.outcome == ReflectionOutcome::ambiguous;
+      floor_ambiguous += floor.outcome == ReflectionOutcome::ambiguous;
+      // Reflected to x = -3 (on the wall), 0.5 m above the floor.
+      const core::ReflectionTest wall = evidence.test(kPlane, Eigen::Vector3f(7.0f, 0.5f * y, -0.5f), kTolerance, true);
+      wall_landed += wall.outcome == ReflectionOutcome::phantom || wall.outcome == ReflectionOutcome::ambiguous;
+      wall_phantom += wall.outcome == ReflectionOutcome::phantom;
+    }
+  // (The window's normal alone: 214 of the 291 floor points ambiguous.)
+  ASSERT_GT(floor_landed, 250);
+  EXPECT_GE(floor_ambiguous, floor_landed * 98 / 100);
+  ASSERT_GT(wall_landed, 250);
+  EXPECT_GE(wall_phantom, wall_landed * 98 / 100);
 }
 
 TEST(ReflectionEvidence, ASweepWithoutReturnsHasNoEvidence)

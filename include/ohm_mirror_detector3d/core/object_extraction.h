@@ -51,9 +51,10 @@ public:
   // best plane has fewer inliers than that; splits the plane's inliers into connected patches
   // (two points are connected when closer than connection_distance); every patch of at least
   // min_object_points points becomes an object; all the plane's inliers count as assigned.
-  // Each object gets its plane (refit to the patch, unit normal towards sensor_origin), its
-  // minimum-area rectangle in the plane (centre, axes, width, height; see ReflectiveObject for
-  // which side is the width), its surface_inliers, type unknown, and an id counting from 0 in
+  // Each object gets its plane (refit to the patch by least squares on the points within 3
+  // robust sigma of it, unit normal towards sensor_origin), its minimum-area rectangle in the
+  // plane around those points (centre, axes, width, height; see ReflectiveObject for which side
+  // is the width), those points as its surface_inliers, type unknown, and an id counting from 0 in
   // the order found. Deterministic: the same sweep gives the same objects. Clears `objects`
   // first.
   // With follows_sampling (and a grid): first splits the errorSurface points into connected

@@ -64,14 +64,33 @@ public:
   // q's direction (within tolerance.at(|q|, distance behind))? The range seen in q's
   // direction is interpolated between the nearest returns around it (exact on any plane,
   // also at grazing incidence) when they lie on one surface, else each is compared on its own.
-  ReflectionTest test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p, const LandingTolerance& tolerance) const;
+  // A point that lands on a surface the reflection maps onto itself is ambiguous; wide_normal
+  // checks a surface that the few returns of the window make out not to, in a ball of returns
+  // around where the point lands (slower, and precise where the range noise is near the beam
+  // spacing). The cone labelling asks for it behind glass, where an ambiguous point is kept as
+  // real: measured on random scenes 2000-2035 (36 per family), the double-echo points behind
+  // glass not labelled behindTransparent went from 39603 to 25812 on the 128-ring lidar, 6067
+  // to 4961 on the 64-ring one. The type decision does not: with the precise
+  // normal, the phantoms of mirrors on floors and side walls turn ambiguous, count no more as
+  // reflections, and mirrors came out unknown (rotating Hokuyo: phantoms left 14.7 -> 29.8 %).
+  ReflectionTest test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p, const LandingTolerance& tolerance,
+                      bool wide_normal = false) const;
 
 private:
   // Calls visit(x) for every indexed return x (relative to the origin) in the cells that the
-  // angular window of radius_ around `direction` touches, in the index's order, except returns
-  // that are certainly outside the window (see kWindowSlack); `unit` is direction normalised.
+  // angular window of `radius` [rad] around `direction` touches, in the index's order, except
+  // returns that are certainly outside the window (see kWindowSlack); `unit` is direction
+  // normalised. With max_visits > 0 only every k-th return of those cells is looked at, k such
+  // that about max_visits are (an even sample of a wide window).
   template <typename Visit>
-  void forEachNear(const Eigen::Vector3f& direction, const Eigen::Vector3f& unit, Visit visit) const;
+  void forEachNear(const Eigen::Vector3f& direction, const Eigen::Vector3f& unit, float radius, std::size_t max_visits,
+                   Visit visit) const;
+  template <typename Run>
+  void forEachCellRun(const Eigen::Vector3f& direction, float radius, Run run) const;
+  // The normal of the surface the sensor saw at `seen_point` (relative to the origin, at range
+  // `seen`), from a sample of the returns within a ball around it several beam spacings wide;
+  // zero when they are too few or not one flat surface.
+  Eigen::Vector3f surfaceNormalAround(const Eigen::Vector3f& seen_point, float seen) const;
 
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   float step_ = 0.0f;       // the sweep's coarser angular step [rad]
@@ -81,7 +100,6 @@ private:
   std::uint32_t cells_per_side_ = 0;
   SpatialIndex index_;      // returns relative to the origin, grouped by cube-map cell
   std::vector<float> squared_ranges_;  // |x|^2 of the index's returns, in its sorted order
-  float window_cosine_bound_ = 0.0f;   // 1 + radius_^2 with slack (forEachNear)
   std::vector<float> row_angles_, column_angles_;
 };
 
