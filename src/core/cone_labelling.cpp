@@ -34,6 +34,35 @@ Label behindLabel(ObjectType type)
   }
 }
 
+// A point behind glass that lands on a surface the reflection maps onto itself (the floor seen
+// through the pane, or the floor's reflection in it) is told by its intensity: a reflection comes
+// back with the pane's reflectance (a few to a few tens of per cent below 75 deg incidence), a
+// point seen through it with the pane's transmission (most of it). Against the surface seen
+// directly where it lands, corrected for range (1 / r^2) and for the incidence on that surface
+// (Lambert), a phantom keeps less than this share.
+constexpr float kReflectedIntensityShare = 0.4f;
+constexpr float kMinLambertCosine = 0.05f;
+
+bool reflectedByIntensity(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
+                          const ReflectionTest& test, const Eigen::Vector3f& origin)
+{
+  if (!(intensity > 0.0f) || !(test.seen_intensity > 0.0f) || !(test.seen_range > 0.0f) ||
+      test.surface_normal.isZero())
+    return false;
+  const Eigen::Vector3f to_p = p - origin;
+  const Eigen::Vector3f to_q = object.reflect(p) - origin;
+  const float range_p = to_p.norm(), range_q = to_q.norm();
+  if (!(range_p > 0.0f) || !(range_q > 0.0f))
+    return false;
+  // The reflected path meets the surface as the ray to p would meet its mirror image: at the
+  // angle between p's direction and the surface's (self-symmetric) normal.
+  const float cos_path = std::max(kMinLambertCosine, std::fabs(test.surface_normal.dot(to_p) / range_p));
+  const float cos_seen = std::max(kMinLambertCosine, std::fabs(test.surface_normal.dot(to_q) / range_q));
+  const float seen = test.seen_intensity * test.seen_range * test.seen_range / cos_seen;
+  const float own = intensity * range_p * range_p / cos_path;
+  return own < kReflectedIntensityShare * seen;
+}
+
 // A point behind an object, by its own evidence first. A point without evidence of its own (it
 // lands on a surface the reflection maps onto itself, where the sensor could not see, or where
 // it saw nothing) takes what the object's other points said, its type: behind a mirror it is a
@@ -199,11 +228,13 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
     {
       // Behind glass an ambiguous point is kept as real: there the landing surface's normal is
       // worth a wider look (see ReflectionEvidence::test).
-      const ReflectionOutcome outcome =
-          evidence.get()
-              .test(object.plane, echo.points[i], object.landing_tolerance, object.type == ObjectType::glass)
-              .outcome;
+      const ReflectionTest test =
+          evidence.get().test(object.plane, echo.points[i], object.landing_tolerance, object.type == ObjectType::glass);
+      const ReflectionOutcome outcome = test.outcome;
       label = behindLabel(object, outcome);
+      if (object.type == ObjectType::glass && outcome == ReflectionOutcome::ambiguous &&
+          reflectedByIntensity(object, echo.points[i], echo.intensities[i], test, evidence.get().sensorOrigin()))
+        label = Label::behindReflective;
       ++object.behind_points;
       switch (outcome)
       {

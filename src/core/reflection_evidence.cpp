@@ -255,6 +255,14 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   squared_ranges_.resize(count);
   for (std::size_t j = 0; j < count; ++j)
     squared_ranges_[j] = sorted_x[j] * sorted_x[j] + sorted_y[j] * sorted_y[j] + sorted_z[j] * sorted_z[j];
+  const std::uint32_t* sorted_ids = index_.sortedId();
+  intensities_.resize(count);
+  for (std::size_t j = 0; j < count; ++j)
+  {
+    const std::size_t k = sorted_ids[j] / beams, i = sorted_ids[j] % beams;
+    const std::vector<float>& intensities = sweep.echoes[k].intensities;
+    intensities_[j] = i < intensities.size() ? intensities[i] : std::numeric_limits<float>::quiet_NaN();
+  }
 }
 
 template <typename Run>
@@ -313,7 +321,7 @@ void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, const Eig
     {
       const float depth = xs[j] * unit.x() + ys[j] * unit.y() + zs[j] * unit.z();
       if (depth > 0.0f && squared_ranges_[j] <= depth * depth * cosine_bound)
-        visit(Eigen::Vector3f(xs[j], ys[j], zs[j]));
+        visit(Eigen::Vector3f(xs[j], ys[j], zs[j]), j);
     }
   });
 }
@@ -327,7 +335,7 @@ Eigen::Vector3f ReflectionEvidence::surfaceNormalAround(const Eigen::Vector3f& s
   std::size_t count = 0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-  forEachNear(seen_point, unit, window, kNormalSamples, [&](const Eigen::Vector3f& x) {
+  forEachNear(seen_point, unit, window, kNormalSamples, [&](const Eigen::Vector3f& x, std::size_t) {
     if ((x - seen_point).squaredNorm() > ball_squared)
       return;
     // Relative to the point seen, so that the moments stay well conditioned.
@@ -375,13 +383,14 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
   {
     float a, b, depth, range;
     Eigen::Vector3f point;
+    std::size_t index;  // in the index's sorted order
   };
   std::array<Candidate, kMaxCandidates> candidates;
   std::size_t count = 0;
   std::array<int, 4> nearest = { -1, -1, -1, -1 };
   std::array<float, 4> nearest_offset = { 0.0f, 0.0f, 0.0f, 0.0f };
   const float radius_squared = radius_ * radius_;
-  forEachNear(q, along, radius_, 0, [&](const Eigen::Vector3f& x) {
+  forEachNear(q, along, radius_, 0, [&](const Eigen::Vector3f& x, std::size_t j) {
     const float depth = x.dot(along);
     if (!(depth > 0.0f) || count == kMaxCandidates)
       return;
@@ -397,7 +406,7 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
       nearest[quadrant] = static_cast<int>(count);
       nearest_offset[quadrant] = offset;
     }
-    candidates[count++] = Candidate{ a, b, depth, x.norm(), x };
+    candidates[count++] = Candidate{ a, b, depth, x.norm(), x, j };
   });
   std::array<int, 4> corners;
   std::size_t corner_count = 0;
@@ -482,6 +491,8 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
   }
   if (result.outcome != ReflectionOutcome::phantom)
     return result;
+  result.seen_intensity = intensities_[candidates[static_cast<std::size_t>(closest)].index];
+  result.seen_range = seen;
 
   // q lies on a surface. If that surface is perpendicular to the plane, the reflection maps it
   // onto itself: a real point on it behind the plane (the floor seen through glass) would land
@@ -540,7 +551,10 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
       surface_normal = ball_normal;
   }
   if (surface_normal.isZero() || std::fabs(surface_normal.dot(normal)) <= symmetric)
+  {
     result.outcome = ReflectionOutcome::ambiguous;
+    result.surface_normal = surface_normal;
+  }
   return result;
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
@@ -253,18 +254,19 @@ TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
   }
 }
 
-TEST(ConeLabelling, TheFloorSeenThroughGlassStaysRealThoughItsReflectionLandsOnTheFloor)
+// A 128-ring lidar's sampling (0.35 deg rings, 0.18 deg columns) of a floor 1 m below the
+// sensor, 1 cm range noise, through a pane reaching down to it 2 m ahead (x = 2). With
+// `behind_share` > 0 every return has a Lambertian intensity (1000 cos(incidence) / r^2), those
+// beyond the pane times behind_share (what the pane lets through, or reflects); 0: none.
+core::Sweep floorThroughAPane(float behind_share)
 {
-  // A 128-ring lidar's sampling (0.35 deg rings, 0.18 deg columns) of a floor 1 m below the
-  // sensor, 1 cm range noise, through a pane reaching down to it 2 m ahead. Reflected across the
-  // pane, a floor point behind it lands on the floor in front, as a phantom of the floor would:
-  // it cannot be told, and behind glass it is kept as real.
   const float degree = static_cast<float>(M_PI) / 180.0f;
   const std::size_t rows = 172, cols = 445;
   core::Sweep sweep;
   sweep.resize(rows, cols);
   std::mt19937 generator(5);
   std::normal_distribution<float> noise(0.0f, 0.01f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t r = 0; r < rows; ++r)
     for (std::size_t c = 0; c < cols; ++c)
     {
@@ -272,33 +274,77 @@ TEST(ConeLabelling, TheFloorSeenThroughGlassStaysRealThoughItsReflectionLandsOnT
       const float azimuth = (-40.0f + 0.18f * static_cast<float>(c)) * degree;
       const Eigen::Vector3f direction(std::cos(elevation) * std::cos(azimuth),
                                       std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      const bool floor = direction.z() < -0.05f;
+      const float range = -1.0f / direction.z();
       const Eigen::Vector3f point =
-          direction.z() < -0.05f ? Eigen::Vector3f((-1.0f / direction.z() + noise(generator)) * direction) :
-                                   Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
-      sweep.echoes[0].points[r * cols + c] = point;
-      sweep.echoes[1].points[r * cols + c] = point;
+          floor ? Eigen::Vector3f((range + noise(generator)) * direction) : Eigen::Vector3f::Constant(nan);
+      float intensity = nan;
+      if (floor && behind_share > 0.0f)
+        intensity = 1000.0f * -direction.z() / (range * range) * (point.x() > 2.0f ? behind_share : 1.0f);
+      for (core::EchoCloud& echo : sweep.echoes)
+      {
+        echo.points[r * cols + c] = point;
+        echo.intensities[r * cols + c] = intensity;
+      }
     }
   sweep.computeRanges(Eigen::Vector3f::Zero());
-  core::SweepLabels nan_labels;
-  nan_labels.reset(sweep.beamCount());
-  for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-    if (!sweep.echoes[0].points[i].allFinite())
-      nan_labels.echoes[0][i] = nan_labels.echoes[1][i] = Label::nanPoint;
+  return sweep;
+}
+
+// The labels of the points behind a glass pane in `sweep` (not its surface) up to x = max_x:
+// (behind, kept as behindTransparent, taken for phantoms).
+struct BehindTheFloorPane
+{
+  std::size_t behind = 0, kept = 0, phantoms = 0;
+};
+
+BehindTheFloorPane labelBehindTheFloorPane(const core::Sweep& sweep, float max_x = 100.0f)
+{
   std::vector<std::pair<Label, Label>> before;
   for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-    before.emplace_back(nan_labels.echoes[0][i], nan_labels.echoes[1][i]);
+  {
+    const Label label = sweep.echoes[0].points[i].allFinite() ? Label::unchecked : Label::nanPoint;
+    before.emplace_back(label, label);
+  }
   std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.2f, 2.2f, ObjectType::glass) };
   const Labelled out = label(sweep, objects, before);
-  std::size_t behind = 0, kept = 0;
+  BehindTheFloorPane result;
   for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-    if (out.assignment.echoes[0][i] == 0 && out.labels.echoes[0][i] != Label::transparentSurface)
+    if (out.assignment.echoes[0][i] == 0 && out.labels.echoes[0][i] != Label::transparentSurface &&
+        sweep.echoes[0].points[i].x() <= max_x)
     {
-      ++behind;
-      kept += out.labels.echoes[0][i] == Label::behindTransparent ? 1 : 0;
+      ++result.behind;
+      result.kept += out.labels.echoes[0][i] == Label::behindTransparent ? 1 : 0;
+      result.phantoms += out.labels.echoes[0][i] == Label::behindReflective ? 1 : 0;
     }
-  ASSERT_GT(behind, 2000u);
+  return result;
+}
+
+TEST(ConeLabelling, TheFloorSeenThroughGlassStaysRealThoughItsReflectionLandsOnTheFloor)
+{
+  // Reflected across the pane, a floor point behind it lands on the floor in front, as a phantom
+  // of the floor would: without intensities it cannot be told, and behind glass it is kept.
+  const BehindTheFloorPane out = labelBehindTheFloorPane(floorThroughAPane(0.0f));
+  ASSERT_GT(out.behind, 2000u);
   // (With the test window's normal alone, 14 % of them were taken for phantoms.)
-  EXPECT_GE(kept, behind * 99 / 100) << kept << " of " << behind;
+  EXPECT_GE(out.kept, out.behind * 99 / 100) << out.kept << " of " << out.behind;
+}
+
+TEST(ConeLabelling, BehindGlassTheIntensityTellsTheFloorSeenThroughFromItsReflection)
+{
+  // The same floor points behind the pane, once as light the pane let through (90 %), once as
+  // its reflection of the floor in front (10 %): against the floor seen where they land, only
+  // the reflection is too weak.
+  const BehindTheFloorPane seen_through = labelBehindTheFloorPane(floorThroughAPane(0.9f));
+  ASSERT_GT(seen_through.behind, 2000u);
+  EXPECT_GE(seen_through.kept, seen_through.behind * 99 / 100) << seen_through.kept << " of " << seen_through.behind;
+  // Up to 3.3 m (beyond, the reflection lands nearer than 0.7 m, under the sensor's view, and
+  // only glass's default is left).
+  const BehindTheFloorPane reflected = labelBehindTheFloorPane(floorThroughAPane(0.1f), 3.3f);
+  ASSERT_GT(reflected.behind, 1000u);
+  EXPECT_GE(reflected.phantoms, reflected.behind * 90 / 100) << reflected.phantoms << " of " << reflected.behind;
+  const BehindTheFloorPane near_seen_through = labelBehindTheFloorPane(floorThroughAPane(0.9f), 3.3f);
+  EXPECT_GE(near_seen_through.kept, near_seen_through.behind * 99 / 100);
 }
 
 TEST(ConeLabelling, PointsOutsideEveryConeBecomeValidExceptErrorAndNanPoints)

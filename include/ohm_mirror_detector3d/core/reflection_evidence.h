@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -42,6 +43,12 @@ struct ReflectionTest
   ReflectionOutcome outcome = ReflectionOutcome::noReturn;
   // Range of the surface seen in q's direction minus q's range [m] (NaN without a return).
   float range_difference = 0.0f;
+  // For a point that lands (phantom, ambiguous): the intensity of the return seen nearest to q's
+  // direction (NaN when the sweep has none) and the range it was seen at [m].
+  float seen_intensity = std::numeric_limits<float>::quiet_NaN();
+  float seen_range = std::numeric_limits<float>::quiet_NaN();
+  // For an ambiguous point: the normal of the surface it lands on (zero when unknown).
+  Eigen::Vector3f surface_normal = Eigen::Vector3f::Zero();
 };
 
 class ReflectionEvidence
@@ -77,7 +84,8 @@ public:
                       bool wide_normal = false) const;
 
 private:
-  // Calls visit(x) for every indexed return x (relative to the origin) in the cells that the
+  // Calls visit(x, j) (j: x's position in the index's sorted order) for every indexed return x
+  // (relative to the origin) in the cells that the
   // angular window of `radius` [rad] around `direction` touches, in the index's order, except
   // returns that are certainly outside the window (see kWindowSlack); `unit` is direction
   // normalised. With max_visits > 0 only every k-th return of those cells is looked at, k such
@@ -100,6 +108,7 @@ private:
   std::uint32_t cells_per_side_ = 0;
   SpatialIndex index_;      // returns relative to the origin, grouped by cube-map cell
   std::vector<float> squared_ranges_;  // |x|^2 of the index's returns, in its sorted order
+  std::vector<float> intensities_;     // their intensities (NaN: none), in the same order
   std::vector<float> row_angles_, column_angles_;
 };
 
