@@ -72,6 +72,20 @@ constexpr float kMaxNormalWindow = 0.1f;  // [rad]
 constexpr std::size_t kNormalSamples = 96;
 constexpr std::size_t kMinNormalReturns = 8;
 
+// The normal of a neighbourhood from its covariance (float or double), zero when the
+// neighbourhood is no surface: a line, or not flat (kMinSurfaceSpread, kMaxSurfaceThickness).
+template <typename Matrix>
+Eigen::Vector3f flatSurfaceNormal(const Matrix& covariance)
+{
+  Eigen::SelfAdjointEigenSolver<Matrix> solver;
+  solver.computeDirect(covariance);
+  const auto spread_values = solver.eigenvalues();  // ascending
+  if (!(spread_values[1] >= kMinSurfaceSpread * spread_values[2]) ||
+      !(spread_values[0] <= kMaxSurfaceThickness * spread_values[1]))
+    return Eigen::Vector3f::Zero();
+  return solver.eigenvectors().col(0).template cast<float>();
+}
+
 float median(std::vector<float>& values)
 {
   if (values.empty())
@@ -347,14 +361,7 @@ Eigen::Vector3f ReflectionEvidence::surfaceNormalAround(const Eigen::Vector3f& s
   if (count < kMinNormalReturns)
     return Eigen::Vector3f::Zero();
   const Eigen::Vector3d mean = sum / static_cast<double>(count);
-  const Eigen::Matrix3d covariance = second / static_cast<double>(count) - mean * mean.transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(covariance);
-  const Eigen::Vector3d spread_values = solver.eigenvalues();
-  if (!(spread_values[1] >= kMinSurfaceSpread * spread_values[2]) ||
-      !(spread_values[0] <= kMaxSurfaceThickness * spread_values[1]))
-    return Eigen::Vector3f::Zero();
-  return solver.eigenvectors().col(0).cast<float>();
+  return flatSurfaceNormal(Eigen::Matrix3d(second / static_cast<double>(count) - mean * mean.transpose()));
 }
 
 ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p,
@@ -533,12 +540,7 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
           const Eigen::Vector3f d = candidates[k].point - mean;
           covariance += d * d.transpose();
         }
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
-      solver.computeDirect(covariance);
-      const Eigen::Vector3f spread_values = solver.eigenvalues();
-      if (spread_values[1] >= kMinSurfaceSpread * spread_values[2] &&
-          spread_values[0] <= kMaxSurfaceThickness * spread_values[1])
-        surface_normal = solver.eigenvectors().col(0);
+      surface_normal = flatSurfaceNormal(covariance);
     }
   }
   // Exactly: a real point on that surface behind the plane lands within tol when twice its

@@ -9,9 +9,9 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <limits>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/reflective_object.h"
@@ -76,19 +76,18 @@ public:
   // around where the point lands (slower, and precise where the range noise is near the beam
   // spacing). The cone labelling asks for it behind glass, where an ambiguous point is kept as
   // real: measured on random scenes 2000-2035 (36 per family), the double-echo points behind
-  // glass not labelled behindTransparent went from 39603 to 25812 on the 128-ring lidar, 6067
-  // to 4961 on the 64-ring one. The type decision does not: with the precise
-  // normal, the phantoms of mirrors on floors and side walls turn ambiguous, count no more as
-  // reflections, and mirrors came out unknown (rotating Hokuyo: phantoms left 14.7 -> 29.8 %).
+  // glass not labelled behindTransparent went from 39603 to 25124 on the 128-ring lidar, 6067
+  // to 4906 on the 64-ring one. The type decision does not: with the precise normal, the
+  // phantoms of mirrors on floors and side walls turn ambiguous, count no more as reflections,
+  // and mirrors came out unknown (rotating Hokuyo: phantoms left 14.7 -> 29.8 %).
   ReflectionTest test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p, const LandingTolerance& tolerance,
                       bool wide_normal = false) const;
 
 private:
   // Calls visit(x, j) (j: x's position in the index's sorted order) for every indexed return x
-  // (relative to the origin) in the cells that the
-  // angular window of `radius` [rad] around `direction` touches, in the index's order, except
-  // returns that are certainly outside the window (see kWindowSlack); `unit` is direction
-  // normalised. With max_visits > 0 only every k-th return of those cells is looked at, k such
+  // (relative to the origin) in the cells that the angular window of `radius` [rad] around
+  // `direction` touches, in the index's order, except returns that are certainly outside the
+  // window (see kWindowSlack); `unit` is direction normalised. With max_visits > 0 only every k-th return of those cells is looked at, k such
   // that about max_visits are (an even sample of a wide window).
   template <typename Visit>
   void forEachNear(const Eigen::Vector3f& direction, const Eigen::Vector3f& unit, float radius, std::size_t max_visits,
