@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/sweep.h"
@@ -57,6 +58,36 @@ struct Wall
 inline bool everywhere(const Eigen::Vector3f&)
 {
   return true;
+}
+
+// A lidar's sweep at the origin on a grid of directions [deg]: row r at elevation
+// elevation0 + r elevation_step, column c at azimuth heading + (azimuth0 + c azimuth_step).
+// beam(direction) gives each beam's return as (point, intensity), both echoes alike (a
+// non-finite point: none); it is called row by row, so that a noise generator it draws from
+// gives the same sweep every time.
+template <typename Beam>
+core::Sweep gridSweep(std::size_t rows, std::size_t cols, float elevation0, float elevation_step, float heading,
+                      float azimuth0, float azimuth_step, Beam beam)
+{
+  const float degree = static_cast<float>(M_PI) / 180.0f;
+  core::Sweep sweep;
+  sweep.resize(rows, cols);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c)
+    {
+      const float elevation = elevation0 * degree + elevation_step * degree * static_cast<float>(r);
+      const float azimuth = heading * degree + (azimuth0 + azimuth_step * static_cast<float>(c)) * degree;
+      const Eigen::Vector3f direction(std::cos(elevation) * std::cos(azimuth),
+                                      std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      const std::pair<Eigen::Vector3f, float> point_and_intensity = beam(direction);
+      for (core::EchoCloud& echo : sweep.echoes)
+      {
+        echo.points[r * cols + c] = point_and_intensity.first;
+        echo.intensities[r * cols + c] = point_and_intensity.second;
+      }
+    }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return sweep;
 }
 
 // A sweep of a spinning lidar at the origin: 1 degree steps in azimuth (all around) and in

@@ -260,35 +260,19 @@ TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
 // beyond the pane times behind_share (what the pane lets through, or reflects); 0: none.
 core::Sweep floorThroughAPane(float behind_share)
 {
-  const float degree = static_cast<float>(M_PI) / 180.0f;
-  const std::size_t rows = 172, cols = 445;
-  core::Sweep sweep;
-  sweep.resize(rows, cols);
   std::mt19937 generator(5);
   std::normal_distribution<float> noise(0.0f, 0.01f);
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < cols; ++c)
-    {
-      const float elevation = -60.0f * degree + 0.35f * degree * static_cast<float>(r);
-      const float azimuth = (-40.0f + 0.18f * static_cast<float>(c)) * degree;
-      const Eigen::Vector3f direction(std::cos(elevation) * std::cos(azimuth),
-                                      std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
-      const bool floor = direction.z() < -0.05f;
-      const float range = -1.0f / direction.z();
-      const Eigen::Vector3f point =
-          floor ? Eigen::Vector3f((range + noise(generator)) * direction) : Eigen::Vector3f::Constant(nan);
-      float intensity = nan;
-      if (floor && behind_share > 0.0f)
-        intensity = 1000.0f * -direction.z() / (range * range) * (point.x() > 2.0f ? behind_share : 1.0f);
-      for (core::EchoCloud& echo : sweep.echoes)
-      {
-        echo.points[r * cols + c] = point;
-        echo.intensities[r * cols + c] = intensity;
-      }
-    }
-  sweep.computeRanges(Eigen::Vector3f::Zero());
-  return sweep;
+  return test::gridSweep(172, 445, -60.0f, 0.35f, 0.0f, -40.0f, 0.18f, [&](const Eigen::Vector3f& direction) {
+    const bool floor = direction.z() < -0.05f;
+    const float range = -1.0f / direction.z();
+    const Eigen::Vector3f point =
+        floor ? Eigen::Vector3f((range + noise(generator)) * direction) : Eigen::Vector3f::Constant(nan);
+    float intensity = nan;
+    if (floor && behind_share > 0.0f)
+      intensity = 1000.0f * -direction.z() / (range * range) * (point.x() > 2.0f ? behind_share : 1.0f);
+    return std::make_pair(point, intensity);
+  });
 }
 
 // The labels of the points behind a glass pane in `sweep` (not its surface) up to x = max_x:

@@ -90,35 +90,21 @@ TEST(ReflectionEvidence, APointOnAFloorThroughThePlaneIsAmbiguous)
 // with 1 cm Gaussian range noise.
 core::Sweep noisyFloorAndWall(float wall_x)
 {
-  const float degree = static_cast<float>(M_PI) / 180.0f;
-  const std::size_t rows = 115, cols = 667;
-  core::Sweep sweep;
-  sweep.resize(rows, cols);
   std::mt19937 generator(3);
   std::normal_distribution<float> noise(0.0f, 0.01f);
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < cols; ++c)
-    {
-      const float elevation = -40.0f * degree + 0.35f * degree * static_cast<float>(r);
-      const float azimuth = 180.0f * degree + (-60.0f + 0.18f * static_cast<float>(c)) * degree;
-      const Eigen::Vector3f direction(std::cos(elevation) * std::cos(azimuth),
-                                      std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
-      float range = direction.z() < 0.0f ? -1.0f / direction.z() : std::numeric_limits<float>::infinity();
-      range = std::min(range, wall_x / direction.x());
-      const Eigen::Vector3f point = (range + noise(generator)) * direction;
-      sweep.echoes[0].points[r * cols + c] = point;
-      sweep.echoes[1].points[r * cols + c] = point;
-    }
-  sweep.computeRanges(Eigen::Vector3f::Zero());
-  return sweep;
+  return test::gridSweep(115, 667, -40.0f, 0.35f, 180.0f, -60.0f, 0.18f, [&](const Eigen::Vector3f& direction) {
+    float range = direction.z() < 0.0f ? -1.0f / direction.z() : std::numeric_limits<float>::infinity();
+    range = std::min(range, wall_x / direction.x());
+    return std::make_pair(Eigen::Vector3f((range + noise(generator)) * direction), std::numeric_limits<float>::quiet_NaN());
+  });
 }
 
 TEST(ReflectionEvidence, TheWideNormalTellsANoisyFloorThroughThePlaneFromAWallFacingIt)
 {
   // Glass in the plane x = 2 behind the sensor's back (it looks towards -x: the floor, and a
   // wall at x = -3). Real floor points behind the glass (x = 5.1 .. 6.5) land on the floor in
-  // view (x = -1.1 .. -2.5, clear of the wall's corner): ambiguous, though the test window's few returns, a ring (1-3 cm)
-  // apart with 1 cm noise, give no trustworthy normal. Points half a metre above the floor at
+  // view (x = -1.1 .. -2.5, clear of the wall's corner): ambiguous, though the test window's
+  // few returns, a ring (1-3 cm) apart with 1 cm noise, give no trustworthy normal. Points half a metre above the floor at
   // x = 7 land on the wall, which faces the plane: phantoms.
   const core::ReflectionEvidence evidence = evidenceOf(noisyFloorAndWall(-3.0f));
   int floor_ambiguous = 0, floor_landed = 0, wall_phantom = 0, wall_landed = 0;
