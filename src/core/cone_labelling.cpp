@@ -41,39 +41,39 @@ Label behindLabel(ObjectType type)
 // directly where it lands, corrected for range (1 / r^2) and for the incidence on that surface
 // (Lambert), a phantom keeps less than this share.
 constexpr float kReflectedIntensityShare = 0.4f;
-constexpr float kMinLambertCosine = 0.05f;
 
 bool reflectedByIntensity(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
                           const ReflectionTest& test, const Eigen::Vector3f& origin)
 {
-  if (!(intensity > 0.0f) || !(test.seen_intensity > 0.0f) || !(test.seen_range > 0.0f) ||
-      test.surface_normal.isZero())
-    return false;
-  const Eigen::Vector3f to_p = p - origin;
-  const Eigen::Vector3f to_q = object.reflect(p) - origin;
-  const float range_p = to_p.norm(), range_q = to_q.norm();
-  if (!(range_p > 0.0f) || !(range_q > 0.0f))
-    return false;
-  // The reflected path meets the surface as the ray to p would meet its mirror image: at the
-  // angle between p's direction and the surface's (self-symmetric) normal.
-  const float cos_path = std::max(kMinLambertCosine, std::fabs(test.surface_normal.dot(to_p) / range_p));
-  const float cos_seen = std::max(kMinLambertCosine, std::fabs(test.surface_normal.dot(to_q) / range_q));
-  const float seen = test.seen_intensity * test.seen_range * test.seen_range / cos_seen;
-  const float own = intensity * range_p * range_p / cos_path;
-  return own < kReflectedIntensityShare * seen;
+  // NaN (no evidence) compares false: the point stays what its geometry said.
+  return landingIntensityShare(p, object.reflect(p), intensity, test, origin) < kReflectedIntensityShare;
+}
+
+// What the points behind an object said as a whole: its type, except for glass typed by its
+// faint phantoms where the geometry said mirror (object_type.cpp: it showed reflections and
+// nothing that could be proved real), whose points said "reflection".
+ObjectType pointsSaid(const ReflectiveObject& object)
+{
+  return object.evidence.typed_by_dim_phantoms ? object.evidence.geometric_type : object.type;
 }
 
 // A point behind an object, by its own evidence first. A point without evidence of its own (it
 // lands on a surface the reflection maps onto itself, where the sensor could not see, or where
-// it saw nothing) takes what the object's other points said, its type: behind a mirror it is a
-// phantom too, behind glass it is real, behind an unknown surface nobody can tell (behindErrorS).
+// it saw nothing) takes what the object's other points said (pointsSaid): behind a mirror it is
+// a phantom too, behind glass it is real, behind an unknown surface nobody can tell
+// (behindErrorS).
 Label behindLabel(const ReflectiveObject& object, ReflectionOutcome outcome)
 {
   switch (outcome)
   {
     case ReflectionOutcome::phantom: return Label::behindReflective;
     case ReflectionOutcome::transmitted: return Label::behindTransparent;
-    default: return behindLabel(object.type);
+    default:
+    {
+      const ObjectType said = pointsSaid(object);
+      // Glass from unknown: nothing was decided either way; behind glass it is kept.
+      return behindLabel(said == ObjectType::unknown ? object.type : said);
+    }
   }
 }
 
@@ -180,10 +180,48 @@ private:
   std::array<Eigen::Vector3d, 4> faces_;
 };
 
+// Whether a point behind object `from`, reflected across it to `reflected`, lies behind another
+// object as the sensor's image in `from` sees it (the test of reflection_chains.cpp): then its
+// light may have come by a second reflection, or through that surface. The cones from each
+// object's image of the sensor are made when first asked for.
+class ChainCones
+{
+public:
+  ChainCones(const std::vector<ReflectiveObject>& objects, const Eigen::Vector3f& origin, float plane_threshold,
+             float margin)
+    : objects_(objects), origin_(origin), plane_threshold_(plane_threshold), margin_(margin), cones_(objects.size())
+  {
+  }
+
+  bool mayContinue(std::size_t from, const Eigen::Vector3f& reflected, const Eigen::Vector3f& crossing)
+  {
+    if (objects_.size() < 2)
+      return false;
+    std::vector<VisionCone>& cones = cones_[from];
+    if (cones.empty())
+    {
+      const Eigen::Vector3f image = objects_[from].reflect(origin_);
+      for (const ReflectiveObject& object : objects_)
+        cones.emplace_back(object, image, plane_threshold_, margin_);
+    }
+    for (std::size_t j = 0; j < objects_.size(); ++j)
+      if (j != from && objects_[j].signedDistance(crossing) > plane_threshold_ &&
+          cones[j].locate(reflected).relation == ConeRelation::behind)
+        return true;
+    return false;
+  }
+
+private:
+  const std::vector<ReflectiveObject>& objects_;
+  Eigen::Vector3f origin_;
+  float plane_threshold_, margin_;
+  std::vector<std::vector<VisionCone>> cones_;
+};
+
 // Labels the points of beams [block, block_end) of one echo, testing only the cones in
 // `reachable` (every other cone is known to miss the block).
 void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end, const std::vector<std::size_t>& reachable,
-                const std::vector<VisionCone>& cones, LazyEvidence& evidence,
+                const std::vector<VisionCone>& cones, LazyEvidence& evidence, ChainCones& chains,
                 std::vector<ReflectiveObject>& objects,
                 std::vector<Label>& echo_labels, std::vector<std::int32_t>& echo_assignment,
                 std::vector<double>& intensity_sums, std::vector<std::size_t>& intensity_counts)
@@ -196,10 +234,12 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
     std::int32_t nearest = ObjectAssignment::kNoObject;
     ConeHit nearest_hit;
     nearest_hit.plane_range = std::numeric_limits<float>::infinity();
+    std::size_t affecting = 0;
     for (const std::size_t j : reachable)
     {
       const ConeHit hit = cones[j].locate(echo.points[i]);
       const bool affected = hit.relation == ConeRelation::onSurface || hit.relation == ConeRelation::behind;
+      affecting += affected ? 1 : 0;
       if (affected && hit.plane_range < nearest_hit.plane_range)
       {
         nearest = static_cast<std::int32_t>(j);
@@ -227,12 +267,25 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
     else
     {
       // Behind glass an ambiguous point is kept as real: there the landing surface's normal is
-      // worth a wider look (see ReflectionEvidence::test).
-      const ReflectionTest test =
-          evidence.get().test(object.plane, echo.points[i], object.landing_tolerance, object.type == ObjectType::glass);
+      // worth a wider look (see ReflectionEvidence::test). Every point's path is checked.
+      const bool kept_as_real = behindLabel(object, ReflectionOutcome::ambiguous) == Label::behindTransparent;
+      ReflectionTestOptions options;
+      options.wide_normal = kept_as_real;
+      // Behind another object too, the point may be that one's phantom; reflected to where it
+      // would lie behind another object, the path may go on through that surface or be reflected
+      // again (a reflection chain, reflection_chains.h). Either way its path proves nothing.
+      if (affecting == 1)
+      {
+        const Eigen::Vector3f& origin = evidence.get().sensorOrigin();
+        const Eigen::Vector3f& p = echo.points[i];
+        const float origin_side = object.signedDistance(origin), point_side = object.signedDistance(p);
+        const Eigen::Vector3f crossing = origin + (origin_side / (origin_side - point_side)) * (p - origin);
+        options.check_path = !chains.mayContinue(static_cast<std::size_t>(nearest), object.reflect(p), crossing);
+      }
+      const ReflectionTest test = evidence.get().test(object.plane, echo.points[i], object.landing_tolerance, options);
       const ReflectionOutcome outcome = test.outcome;
       label = behindLabel(object, outcome);
-      if (object.type == ObjectType::glass && outcome == ReflectionOutcome::ambiguous &&
+      if (kept_as_real && outcome == ReflectionOutcome::ambiguous &&
           reflectedByIntensity(object, echo.points[i], echo.intensities[i], test, evidence.get().sensorOrigin()))
         label = Label::behindReflective;
       ++object.behind_points;
@@ -287,6 +340,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   cones.reserve(objects.size());
   for (const ReflectiveObject& object : objects)
     cones.emplace_back(object, sensor_origin, plane_threshold, margin);
+  ChainCones chains(objects, sensor_origin, plane_threshold, margin);
   std::vector<ConeBounds> bounds;
   bounds.reserve(objects.size());
   for (const ReflectiveObject& object : objects)
@@ -327,7 +381,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
         cull(k, block, block_end, all, reachable);
       if (reachable.empty())
       {
-        labelBlock(echo, block, block_end, reachable, cones, evidence, objects, labels.echoes[k], assignment.echoes[k],
+        labelBlock(echo, block, block_end, reachable, cones, evidence, chains, objects, labels.echoes[k], assignment.echoes[k],
                    intensity_sums, intensity_counts);
         continue;
       }
@@ -335,7 +389,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
       {
         const std::size_t sub_end = std::min(block_end, sub + kSubBlockBeams);
         cull(k, sub, sub_end, reachable, sub_reachable);
-        labelBlock(echo, sub, sub_end, sub_reachable, cones, evidence, objects, labels.echoes[k],
+        labelBlock(echo, sub, sub_end, sub_reachable, cones, evidence, chains, objects, labels.echoes[k],
                    assignment.echoes[k], intensity_sums, intensity_counts);
       }
     }

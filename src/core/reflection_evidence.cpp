@@ -35,7 +35,7 @@ constexpr std::size_t kMaxLineLag = 4096;
 constexpr float kMinStep = 1e-5f;
 constexpr float kMaxStep = 10.0f * static_cast<float>(M_PI) / 180.0f;
 
-constexpr std::size_t kMaxCandidates = 128;
+
 
 // A return x lies in the window around a unit direction d when its offset (x.e1, x.e2) / depth
 // (depth = x.d) is within radius r: |x|^2 - depth^2 <= r^2 depth^2. Returns with |x|^2 above
@@ -71,6 +71,9 @@ constexpr float kNormalBallSpacings = 4.0f;
 constexpr float kMaxNormalWindow = 0.1f;  // [rad]
 constexpr std::size_t kNormalSamples = 96;
 constexpr std::size_t kMinNormalReturns = 8;
+// Incidence cosines below this (grazing) are taken as this in the Lambert correction of
+// landingIntensityShare: a surface seen edge-on says nothing about its brightness.
+constexpr float kMinLambertCosine = 0.05f;
 
 // The normal of a neighbourhood from its covariance (float or double), zero when the
 // neighbourhood is no surface: a line, or not flat (kMinSurfaceSpread, kMaxSurfaceThickness).
@@ -364,36 +367,21 @@ Eigen::Vector3f ReflectionEvidence::surfaceNormalAround(const Eigen::Vector3f& s
   return flatSurfaceNormal(Eigen::Matrix3d(second / static_cast<double>(count) - mean * mean.transpose()));
 }
 
-ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p,
-                                        const LandingTolerance& tolerance, bool wide_normal) const
+ReflectionEvidence::Sighting ReflectionEvidence::sight(const Eigen::Vector3f& q, float range, float tol) const
 {
-  ReflectionTest result;
-  result.range_difference = std::numeric_limits<float>::quiet_NaN();
-  if (step_ == 0.0f || index_.pointCount() == 0)
-    return result;
-  const Eigen::Vector3f normal = plane.head<3>();
-  const float side = normal.dot(p) + plane[3];
-  const Eigen::Vector3f q = p - 2.0f * side * normal - origin_;
-  const float range = q.norm();
-  if (!(range > 0.0f))
-    return result;
-  const float behind = -side;
-  const float tol = tolerance.at(range, behind);
-  const Eigen::Vector3f along = q / range;
+  Sighting sighting;
+  sighting.along = q / range;
+  const Eigen::Vector3f& along = sighting.along;
   const Eigen::Vector3f helper = std::fabs(along.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
-  const Eigen::Vector3f e1 = along.cross(helper).normalized();
-  const Eigen::Vector3f e2 = along.cross(e1);
+  sighting.e1 = along.cross(helper).normalized();
+  sighting.e2 = along.cross(sighting.e1);
+  const Eigen::Vector3f& e1 = sighting.e1;
+  const Eigen::Vector3f& e2 = sighting.e2;
 
   // The returns within the window, in q's tangent basis; the nearest in each quadrant around
   // q's direction are the corners of the patch of range image that q's direction falls in.
-  struct Candidate
-  {
-    float a, b, depth, range;
-    Eigen::Vector3f point;
-    std::size_t index;  // in the index's sorted order
-  };
-  std::array<Candidate, kMaxCandidates> candidates;
-  std::size_t count = 0;
+  std::array<Candidate, kMaxCandidates>& candidates = sighting.candidates;
+  std::size_t& count = sighting.count;
   std::array<int, 4> nearest = { -1, -1, -1, -1 };
   std::array<float, 4> nearest_offset = { 0.0f, 0.0f, 0.0f, 0.0f };
   const float radius_squared = radius_ * radius_;
@@ -415,13 +403,13 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
     }
     candidates[count++] = Candidate{ a, b, depth, x.norm(), x, j };
   });
-  std::array<int, 4> corners;
-  std::size_t corner_count = 0;
+  std::array<int, 4>& corners = sighting.corners;
+  std::size_t& corner_count = sighting.corner_count;
   for (int k : nearest)
     if (k >= 0)
       corners[corner_count++] = k;
   if (corner_count == 0)
-    return result;
+    return sighting;
 
   // One surface when the corners' ranges differ by no more than a surface seen at up to 80
   // degrees could across their spread of directions.
@@ -438,15 +426,14 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
     if (offset < best.a * best.a + best.b * best.b)
       closest = corners[k];
   }
+  sighting.closest = closest;
   const float spread = 2.0f * std::sqrt(widest) + step_;
-  const bool one_surface = high - low <= tol + kMaxGrazingSlope * range * spread;
+  sighting.one_surface = high - low <= tol + kMaxGrazingSlope * range * spread;
 
   // On one surface: the range in q's direction from the plane through the corners. For a plane
   // the reciprocal depth along q's direction is exactly linear in (a, b), so a least-squares fit
   // of 1 / depth = w0 + wa a + wb b over the corners gives it (1 / w0) even at grazing incidence.
-  bool fitted = false;
-  Eigen::Vector3d fit = Eigen::Vector3d::Zero();
-  if (one_surface && corner_count >= 3)
+  if (sighting.one_surface && corner_count >= 3)
   {
     Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
     Eigen::Vector3d right = Eigen::Vector3d::Zero();
@@ -460,21 +447,98 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
     }
     if (std::fabs(normal_matrix.determinant()) > 1e-3)
     {
-      fit = normal_matrix.inverse() * right;
-      fit.tail<2>() *= scale;
-      fitted = fit[0] > 0.0;
+      sighting.fit = normal_matrix.inverse() * right;
+      sighting.fit.tail<2>() *= scale;
+      sighting.fitted = sighting.fit[0] > 0.0;
     }
   }
+  if (sighting.one_surface)
+    sighting.seen = sighting.fitted ? static_cast<float>(1.0 / sighting.fit[0]) :
+                                      candidates[static_cast<std::size_t>(closest)].range;
+  return sighting;
+}
+
+Eigen::Vector3f ReflectionEvidence::Sighting::fittedNormal() const
+{
+  return (static_cast<float>(fit[0]) * along + static_cast<float>(fit[1]) * e1 + static_cast<float>(fit[2]) * e2)
+      .normalized();
+}
+
+bool ReflectionEvidence::pathPiercesSeenSurface(const Eigen::Vector3f& from, const Eigen::Vector3f& q,
+                                                const Sighting& at_q, const LandingTolerance& tolerance,
+                                                float behind) const
+{
+  // The surface seen in front of q, locally the plane through the corners' fit; the path from
+  // the crossing (from) to q meets that plane at c, when it does between the two.
+  if (!at_q.fitted)
+    return false;
+  const Eigen::Vector3f surface_normal = at_q.fittedNormal();
+  const Eigen::Vector3f seen_point = at_q.seen * at_q.along;
+  const float side_from = surface_normal.dot(from - seen_point);
+  const float side_q = surface_normal.dot(q - seen_point);
+  if (!(side_from * side_q < 0.0f))
+    return false;
+  const Eigen::Vector3f c = from + (side_from / (side_from - side_q)) * (q - from);
+  const float range = c.norm();
+  if (!(range > 0.0f))
+    return false;
+  const float tol = tolerance.at(range, behind);
+  // Too near either end, c is the pane (the wall it sits in) or q's own surface.
+  if ((c - from).norm() <= tol || (c - q).norm() <= tol)
+    return false;
+  const Sighting at_c = sight(c, range, tol);
+  return at_c.one_surface && std::fabs(at_c.seen - range) <= tol;
+}
+
+ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p,
+                                        const LandingTolerance& tolerance, const ReflectionTestOptions& options) const
+{
+  ReflectionTest result;
+  result.range_difference = std::numeric_limits<float>::quiet_NaN();
+  if (step_ == 0.0f || index_.pointCount() == 0)
+    return result;
+  const Eigen::Vector3f normal = plane.head<3>();
+  const float side = normal.dot(p) + plane[3];
+  const Eigen::Vector3f q = p - 2.0f * side * normal - origin_;
+  const float range = q.norm();
+  if (!(range > 0.0f))
+    return result;
+  const float behind = -side;
+  const float tol = tolerance.at(range, behind);
+  const Sighting sighting = sight(q, range, tol);
+  if (sighting.corner_count == 0)
+    return result;
+  const Eigen::Vector3f& along = sighting.along;
+  const std::array<Candidate, kMaxCandidates>& candidates = sighting.candidates;
+  const std::size_t count = sighting.count;
+  const std::size_t corner_count = sighting.corner_count;
+  const std::array<int, 4>& corners = sighting.corners;
+  const int closest = sighting.closest;
 
   float seen = 0.0f;  // range of what the sensor saw in q's direction
-  if (one_surface)
+  if (sighting.one_surface)
   {
-    seen = fitted ? static_cast<float>(1.0 / fit[0]) : candidates[static_cast<std::size_t>(closest)].range;
+    seen = sighting.seen;
     const float difference = seen - range;
     result.range_difference = difference;
     result.outcome = difference > tol  ? ReflectionOutcome::transmitted :
                      difference < -tol ? ReflectionOutcome::occluded :
                                          ReflectionOutcome::phantom;
+    // Occluded: a surface was seen in front of q. The light of a phantom came along the path
+    // from where the beam met the plane to q, so that path cannot pierce a surface the sensor
+    // saw; if it does, p is real, seen through the plane (a pane in a wall: what lies behind it,
+    // reflected, lies beyond the room's walls).
+    if (options.check_path && result.outcome == ReflectionOutcome::occluded)
+    {
+      const Eigen::Vector3f to_p = p - origin_;
+      const float origin_side = normal.dot(origin_) + plane[3];
+      const Eigen::Vector3f crossing = (origin_side / (origin_side - side)) * to_p;
+      if (origin_side > 0.0f && pathPiercesSeenSurface(crossing, q, sighting, tolerance, behind))
+      {
+        result.outcome = ReflectionOutcome::transmitted;
+        result.path_blocked = true;
+      }
+    }
   }
   else
   {
@@ -513,10 +577,8 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
   // and noise can only tilt it away), and the second look costs only the points that would
   // otherwise be phantoms.
   Eigen::Vector3f surface_normal = Eigen::Vector3f::Zero();
-  if (fitted)
-    surface_normal =
-        (static_cast<float>(fit[0]) * along + static_cast<float>(fit[1]) * e1 + static_cast<float>(fit[2]) * e2)
-            .normalized();
+  if (sighting.fitted)
+    surface_normal = sighting.fittedNormal();
   else
   {
     auto onSurface = [&](const Candidate& c) {
@@ -546,18 +608,41 @@ ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eige
   // Exactly: a real point on that surface behind the plane lands within tol when twice its
   // distance behind times |n_surface . n| is below tol; the normal's own uncertainty widens it.
   const float symmetric = std::max(kSelfSymmetricNormal, behind > 0.0f ? tol / (2.0f * behind) : 1.0f);
-  if (wide_normal && !surface_normal.isZero() && std::fabs(surface_normal.dot(normal)) > symmetric)
+  if (options.wide_normal && !surface_normal.isZero() && std::fabs(surface_normal.dot(normal)) > symmetric)
   {
     const Eigen::Vector3f ball_normal = surfaceNormalAround(seen * along, seen);
     if (!ball_normal.isZero())
       surface_normal = ball_normal;
   }
+  result.surface_normal = surface_normal;
   if (surface_normal.isZero() || std::fabs(surface_normal.dot(normal)) <= symmetric)
-  {
     result.outcome = ReflectionOutcome::ambiguous;
-    result.surface_normal = surface_normal;
-  }
   return result;
+}
+
+float landingIntensityShare(const Eigen::Vector3f& p, const Eigen::Vector3f& reflected, float intensity,
+                            const ReflectionTest& test, const Eigen::Vector3f& origin)
+{
+  const float none = std::numeric_limits<float>::quiet_NaN();
+  if (!(intensity > 0.0f) || !(test.seen_intensity > 0.0f) || !(test.seen_range > 0.0f) ||
+      test.surface_normal.isZero())
+    return none;
+  const Eigen::Vector3f to_p = p - origin;
+  const Eigen::Vector3f to_q = reflected - origin;
+  const float range_p = to_p.norm(), range_q = to_q.norm();
+  if (!(range_p > 0.0f) || !(range_q > 0.0f))
+    return none;
+  // The reflected path arrives at q along p's direction reflected across the plane, at the
+  // angle to the surface's normal that p's direction makes with the normal's mirror image. That
+  // is the angle to the normal itself for a surface parallel or perpendicular to the plane (a
+  // wall facing it; a floor), where nearly every phantom lands; the normal's mirror image would
+  // turn its noise into an error of twice the normal's tilt times the plane's obliquity
+  // (measured: 3 % of a floor seen through glass taken for its reflection).
+  const float cos_path = std::max(kMinLambertCosine, std::fabs(test.surface_normal.dot(to_p) / range_p));
+  const float cos_seen = std::max(kMinLambertCosine, std::fabs(test.surface_normal.dot(to_q) / range_q));
+  const float seen = test.seen_intensity * test.seen_range * test.seen_range / cos_seen;
+  const float own = intensity * range_p * range_p / cos_path;
+  return own / seen;
 }
 
 }  // namespace core

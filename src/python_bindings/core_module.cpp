@@ -276,6 +276,10 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["tested_points"] = e.tested_points;
   d["inlier_fraction"] = static_cast<double>(e.inlier_fraction);
   d["real_fraction"] = static_cast<double>(e.real_fraction);
+  d["phantom_intensity_share"] = static_cast<double>(e.phantom_intensity_share);
+  d["phantom_share_points"] = e.phantom_share_points;
+  d["dim_phantom_fraction"] = static_cast<double>(e.dim_phantom_fraction);
+  d["typed_by_dim_phantoms"] = e.typed_by_dim_phantoms;
   d["landing_fitness"] = static_cast<double>(e.landing_fitness);
   d["plane_refined"] = e.plane_refined;
   d["plane_correction"] = static_cast<double>(e.plane_correction);

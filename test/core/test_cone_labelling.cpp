@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
@@ -231,6 +232,87 @@ TEST(ConeLabelling, EveryPointBehindIsLabelledByItsOwnEvidence)
   }
 }
 
+// Expects every point of `sweep` assigned to objects[0] (behind it: nothing lies on its
+// surface in these sweeps) to be labelled `expected`; how many there are.
+std::size_t expectBehindLabelled(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& objects,
+                                 Label expected, const char* what)
+{
+  const Labelled out = label(sweep, objects);
+  std::size_t behind = 0;
+  for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    if (out.assignment.echoes[0][i] == 0)
+    {
+      EXPECT_EQ(out.labels.echoes[0][i], expected) << what;
+      ++behind;
+    }
+  return behind;
+}
+
+TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsPointsWithoutEvidenceTakeWhatItsPointsSaid)
+{
+  // Glass whose points behind, by their geometry, were reflections with nothing proved real (a
+  // mirror to the geometry), typed glass by its phantoms' faintness: its surface is glass, but a
+  // point without evidence of its own is taken for a reflection, as its other points said. Glass
+  // that the geometry left unknown keeps it as real.
+  const core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
+  const std::pair<ObjectType, Label> cases[] = { { ObjectType::mirror, Label::behindReflective },
+                                                 { ObjectType::unknown, Label::behindTransparent } };
+  for (const auto& c : cases)
+  {
+    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass) };
+    objects[0].evidence.typed_by_dim_phantoms = true;
+    objects[0].evidence.geometric_type = c.first;
+    EXPECT_GT(expectBehindLabelled(sweep, objects, c.second, core::objectTypeName(c.first)), 100u);
+    EXPECT_EQ(objects[0].type, ObjectType::glass);
+  }
+}
+
+// Behind a mirror at x = 2: a wall at x = 6 (a 0.8 x 0.8 m patch, 49 beams at 1 deg). Reflected, its points would
+// lie at x = -2, behind the wall at x = -1 the sensor saw all round.
+core::Sweep wallBehindAMirrorFacingAWall()
+{
+  return test::rangeImage(
+      { { 0, -1.0f, test::everywhere },
+        { 0, 6.0f, [](const Eigen::Vector3f& x) { return std::fabs(x.y()) < 0.4f && std::fabs(x.z()) < 0.4f; } } });
+}
+
+// Labels of the points at x = 6 behind object 0.
+std::map<Label, std::size_t> behindTheMirror(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& objects)
+{
+  const Labelled out = label(sweep, objects);
+  std::map<Label, std::size_t> counts;
+  for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    if (out.assignment.echoes[0][i] == 0 && sweep.echoes[0].points[i].x() > 5.0f)
+      ++counts[out.labels.echoes[0][i]];
+  return counts;
+}
+
+TEST(ConeLabelling, APointWhosePhantomLightWouldPierceASeenWallIsReal)
+{
+  // The light of a phantom would have come from the mirror to x = -2 through the wall at x = -1:
+  // the points are real, whatever the object's type says.
+  const core::Sweep sweep = wallBehindAMirrorFacingAWall();
+  std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::mirror) };
+  std::map<Label, std::size_t> counts = behindTheMirror(sweep, objects);
+  EXPECT_GT(counts[Label::behindTransparent], 40u);
+  EXPECT_EQ(counts[Label::behindReflective], 0u);
+  EXPECT_EQ(objects[0].transmitted_points, objects[0].behind_points);
+}
+
+TEST(ConeLabelling, APathThatMayGoOnThroughAnotherMirrorProvesNothing)
+{
+  // A second mirror in the wall at x = -1, facing the first: the light may have been reflected
+  // there again (a reflection chain), so the wall no longer proves the points real; behind a
+  // mirror they take its type.
+  const core::Sweep sweep = wallBehindAMirrorFacingAWall();
+  core::ReflectiveObject facing = wallObject(-1.0f, 1.5f, 1.5f, ObjectType::mirror, 1);
+  facing.plane = Eigen::Vector4f(1.0f, 0.0f, 0.0f, 1.0f);  // facing +x, towards the sensor
+  std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::mirror), facing };
+  std::map<Label, std::size_t> counts = behindTheMirror(sweep, objects);
+  EXPECT_GT(counts[Label::behindReflective], 40u);
+  EXPECT_EQ(counts[Label::behindTransparent], 0u);
+}
+
 TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
 {
   // Nothing seen in front of the surface: no point behind can be told by itself.
@@ -241,15 +323,7 @@ TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
   for (const auto& c : cases)
   {
     std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, c.first) };
-    const Labelled out = label(sweep, objects);
-    std::size_t behind = 0;
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-      if (out.assignment.echoes[0][i] == 0)
-      {
-        EXPECT_EQ(out.labels.echoes[0][i], c.second) << core::objectTypeName(c.first);
-        ++behind;
-      }
-    EXPECT_GT(behind, 100u);
+    EXPECT_GT(expectBehindLabelled(sweep, objects, c.second, core::objectTypeName(c.first)), 100u);
     EXPECT_EQ(objects[0].undecided_points, objects[0].behind_points);
   }
 }

@@ -209,6 +209,55 @@ TEST(ObjectType, ASurfaceThatOnlyReflectsIsAMirror)
   EXPECT_EQ(typeIn(sweep, object), ObjectType::mirror);
   EXPECT_EQ(object.evidence.transmitted_points, 0u);
   EXPECT_TRUE(object.evidence.plane_refined);
+  // The sweep has no intensities: the phantoms' brightness is no evidence.
+  EXPECT_EQ(object.evidence.phantom_share_points, 0u);
+  EXPECT_TRUE(std::isnan(object.evidence.dim_phantom_fraction));
+}
+
+// The sweep of ASurfaceThatOnlyReflectsIsAMirror with the intensities of a Lambertian wall at
+// x = -1 (cos(incidence) / r^2), seen directly in front of the surface at x = 2 and, behind it,
+// through a reflector that returns `reflected` (R^2) of the light.
+core::Sweep reflectionWithIntensities(float reflected)
+{
+  core::Sweep sweep = test::rangeImage({ { 0, -1.0f, test::everywhere }, { 0, 5.0f, test::everywhere } });
+  sweep.has_intensity = true;
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      const float range = p.norm();
+      const float lambert = 1000.0f * std::fabs(p.x()) / range / (range * range);
+      sweep.echoes[k].intensities[i] = p.x() > 2.0f ? reflected * lambert : lambert;
+    }
+  return sweep;
+}
+
+TEST(ObjectType, PhantomsTooDimForAMirrorAreReflectionsInGlass)
+{
+  // A pane reflects 8 % at perpendicular incidence: its phantoms come back with R^2 = 0.6 % of
+  // the light. The geometry alone (every point behind lands on the wall) says mirror.
+  const core::Sweep sweep = reflectionWithIntensities(0.08f * 0.08f);
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, object), ObjectType::glass);
+  EXPECT_TRUE(object.evidence.typed_by_dim_phantoms);
+  EXPECT_EQ(object.evidence.transmitted_points, 0u);
+  EXPECT_GT(object.evidence.phantom_share_points, 100u);
+  EXPECT_NEAR(object.evidence.phantom_intensity_share, 0.0064f, 0.001f);
+  EXPECT_GT(object.evidence.dim_phantom_fraction, 0.95f);
+}
+
+TEST(ObjectType, PhantomsAsBrightAsAMirrorsOrShinyMetalsStayAMirror)
+{
+  // R = 0.9 (a mirror) and R = 0.5 (shiny metal).
+  for (const float reflectance : { 0.9f, 0.5f })
+  {
+    const core::Sweep sweep = reflectionWithIntensities(reflectance * reflectance);
+    core::ReflectiveObject object = objectAtTwoMetres();
+    EXPECT_EQ(typeIn(sweep, object), ObjectType::mirror) << "reflectance " << reflectance;
+    EXPECT_FALSE(object.evidence.typed_by_dim_phantoms);
+    EXPECT_NEAR(object.evidence.phantom_intensity_share, reflectance * reflectance, 0.02f);
+    EXPECT_LT(object.evidence.dim_phantom_fraction, 0.05f);
+  }
 }
 
 TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)

@@ -32,6 +32,21 @@ core::ReflectionEvidence evidenceOf(const core::Sweep& sweep)
 const Eigen::Vector4f kPlane(-1.0f, 0.0f, 0.0f, 2.0f);
 const core::LandingTolerance kTolerance;
 
+core::ReflectionTestOptions withPathCheck()
+{
+  core::ReflectionTestOptions options;
+  options.check_path = true;
+  return options;
+}
+core::ReflectionTestOptions withWideNormal()
+{
+  core::ReflectionTestOptions options;
+  options.wide_normal = true;
+  return options;
+}
+const core::ReflectionTestOptions kPathCheck = withPathCheck();
+const core::ReflectionTestOptions kWideNormal = withWideNormal();
+
 // A point 3 m behind the surface, 0.3 m above the sensor: reflected, it lands at x = -1.
 const Eigen::Vector3f kBehind(5.0f, 0.4f, 0.3f);
 
@@ -59,11 +74,35 @@ TEST(ReflectionEvidence, APointWhereTheSensorSawFurtherIsSeenThrough)
   EXPECT_GT(test.range_difference, 1.5f);
 }
 
-TEST(ReflectionEvidence, APointWhereTheSensorSawNearerCannotBeTold)
+TEST(ReflectionEvidence, APointHiddenFromTheSensorButNotFromThePlaneCannotBeTold)
 {
-  // A wall at x = -0.5 hides where the point lands.
+  // A box face at x = -0.5 (0.2 x 0.2 m) hides where the point lands on the wall at x = -1, but
+  // not the path from where the beam met the plane to there: the point may be a phantom of the
+  // wall behind the box.
+  const core::ReflectionEvidence evidence = evidenceOf(rangeImage(
+      { { 0, -1.0f, everywhere },
+        { 0, -0.5f, [](const Eigen::Vector3f& x) {
+           return x.y() > 0.1f && x.y() < 0.3f && x.z() > 0.05f && x.z() < 0.25f;
+         } } }));
+  const core::ReflectionTest test = evidence.test(kPlane, kBehind, kTolerance, kPathCheck);
+  EXPECT_EQ(test.outcome, ReflectionOutcome::occluded) << core::reflectionOutcomeName(test.outcome);
+  EXPECT_FALSE(test.path_blocked);
+}
+
+TEST(ReflectionEvidence, APointWhosePathFromThePlanePiercesASeenWallIsSeenThrough)
+{
+  // A wall at x = -0.5 hides where the point lands, and the light of a phantom would have had to
+  // cross it on its way from the plane: the point is real, seen through the plane (what lies
+  // behind a pane in a wall, reflected, lies beyond the room's walls).
   const core::ReflectionEvidence evidence = evidenceOf(rangeImage({ { 0, -0.5f, everywhere } }));
-  EXPECT_EQ(evidence.test(kPlane, kBehind, kTolerance).outcome, ReflectionOutcome::occluded);
+  const core::ReflectionTest test = evidence.test(kPlane, kBehind, kTolerance, kPathCheck);
+  EXPECT_EQ(test.outcome, ReflectionOutcome::transmitted) << core::reflectionOutcomeName(test.outcome);
+  EXPECT_TRUE(test.path_blocked);
+  EXPECT_LT(test.range_difference, -0.3f);
+  // Without the check it cannot be told.
+  const core::ReflectionTest unchecked = evidence.test(kPlane, kBehind, kTolerance);
+  EXPECT_EQ(unchecked.outcome, ReflectionOutcome::occluded) << core::reflectionOutcomeName(unchecked.outcome);
+  EXPECT_FALSE(unchecked.path_blocked);
 }
 
 TEST(ReflectionEvidence, APointWhereTheSensorSawNothingCannotBeTold)
@@ -111,11 +150,11 @@ TEST(ReflectionEvidence, TheWideNormalTellsANoisyFloorThroughThePlaneFromAWallFa
   for (float x = 5.1f; x <= 6.5f; x += 0.1f)
     for (float y = -1.0f; y <= 1.0f; y += 0.1f)
     {
-      const core::ReflectionTest floor = evidence.test(kPlane, Eigen::Vector3f(x, y, -1.0f), kTolerance, true);
+      const core::ReflectionTest floor = evidence.test(kPlane, Eigen::Vector3f(x, y, -1.0f), kTolerance, kWideNormal);
       floor_landed += floor.outcome == ReflectionOutcome::phantom || floor.outcome == ReflectionOutcome::ambiguous;
       floor_ambiguous += floor.outcome == ReflectionOutcome::ambiguous;
       // Reflected to x = -3 (on the wall), 0.5 m above the floor.
-      const core::ReflectionTest wall = evidence.test(kPlane, Eigen::Vector3f(7.0f, 0.5f * y, -0.5f), kTolerance, true);
+      const core::ReflectionTest wall = evidence.test(kPlane, Eigen::Vector3f(7.0f, 0.5f * y, -0.5f), kTolerance, kWideNormal);
       wall_landed += wall.outcome == ReflectionOutcome::phantom || wall.outcome == ReflectionOutcome::ambiguous;
       wall_phantom += wall.outcome == ReflectionOutcome::phantom;
     }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -47,9 +48,37 @@ struct ReflectionTest
   // direction (NaN when the sweep has none) and the range it was seen at [m].
   float seen_intensity = std::numeric_limits<float>::quiet_NaN();
   float seen_range = std::numeric_limits<float>::quiet_NaN();
-  // For an ambiguous point: the normal of the surface it lands on (zero when unknown).
+  // For a point that lands (phantom, ambiguous): the normal of the surface it lands on (zero
+  // when unknown).
   Eigen::Vector3f surface_normal = Eigen::Vector3f::Zero();
+  // Transmitted because the path a phantom's light would have taken (from where the beam met the
+  // plane to q) pierces a surface the sensor saw (the point was occluded by it otherwise).
+  bool path_blocked = false;
 };
+
+// Of the light that the surface a point lands on returns when seen directly, the share the point
+// itself came back with: the point's intensity and the one seen where it lands
+// (test.seen_intensity), each corrected for range (times r^2) and for its incidence on that
+// surface (divided by the cosine, Lambert). A beam reflected by a surface of reflectance R comes
+// back with R^2 of the light (R on the way out, R on the way back): a mirror's phantom with about
+// 0.8 of it, shiny metal's with about a quarter, a reflection in glass with under 3 % below 60 deg
+// incidence (Fresnel: 8 % reflected at perpendicular incidence, 16 % at 60 deg). A point seen
+// through glass comes with most of it. NaN without the evidence (no intensities, no return or no
+// surface normal where it lands). `reflected` is p reflected across the plane.
+// The second looks ReflectionEvidence::test may take (each slower, and each asked for only where
+// its measured benefit holds).
+struct ReflectionTestOptions
+{
+  // Where the test window's few returns make out that the surface a point lands on does not map
+  // onto itself, look again in a ball of returns around where it lands.
+  bool wide_normal = false;
+  // An occluded point whose phantom light would have had to pierce a surface the sensor saw is
+  // real (transmitted, path_blocked).
+  bool check_path = false;
+};
+
+float landingIntensityShare(const Eigen::Vector3f& p, const Eigen::Vector3f& reflected, float intensity,
+                            const ReflectionTest& test, const Eigen::Vector3f& origin);
 
 class ReflectionEvidence
 {
@@ -71,7 +100,7 @@ public:
   // q's direction (within tolerance.at(|q|, distance behind))? The range seen in q's
   // direction is interpolated between the nearest returns around it (exact on any plane,
   // also at grazing incidence) when they lie on one surface, else each is compared on its own.
-  // A point that lands on a surface the reflection maps onto itself is ambiguous; wide_normal
+  // A point that lands on a surface the reflection maps onto itself is ambiguous; options.wide_normal
   // checks a surface that the few returns of the window make out not to, in a ball of returns
   // around where the point lands (slower, and precise where the range noise is near the beam
   // spacing). The cone labelling asks for it behind glass, where an ambiguous point is kept as
@@ -80,10 +109,46 @@ public:
   // to 4906 on the 64-ring one. The type decision does not: with the precise normal, the
   // phantoms of mirrors on floors and side walls turn ambiguous, count no more as reflections,
   // and mirrors came out unknown (rotating Hokuyo: phantoms left 14.7 -> 29.8 %).
+  // With options.check_path, a point occluded by a surface that the straight path from where its
+  // beam met the plane to q crosses is transmitted (ReflectionTest::path_blocked): a phantom's
+  // light came along that path. Only the cone labelling asks for it (see cone_labelling.cpp).
   ReflectionTest test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p, const LandingTolerance& tolerance,
-                      bool wide_normal = false) const;
+                      const ReflectionTestOptions& options = ReflectionTestOptions()) const;
 
 private:
+  static constexpr std::size_t kMaxCandidates = 128;
+  // A return in the window around a direction, in the direction's tangent basis (a, b: offsets
+  // over depth).
+  struct Candidate
+  {
+    float a, b, depth, range;
+    Eigen::Vector3f point;  // relative to the origin
+    std::size_t index;      // in the index's sorted order
+  };
+  // What the sensor saw around the direction of q (relative to the origin): the window's
+  // returns, the nearest in each quadrant (corners), whether they lie on one surface and, when
+  // they do, the range seen in q's direction (from the plane through at least three corners,
+  // fitted, else the closest corner's).
+  struct Sighting
+  {
+    Eigen::Vector3f along, e1, e2;  // q's direction and its tangent basis
+    std::array<Candidate, kMaxCandidates> candidates;
+    std::size_t count = 0;
+    std::array<int, 4> corners = { -1, -1, -1, -1 };
+    std::size_t corner_count = 0;
+    int closest = -1;
+    bool one_surface = false;
+    bool fitted = false;
+    Eigen::Vector3d fit = Eigen::Vector3d::Zero();  // 1 / depth = fit . (1, a, b)
+    float seen = 0.0f;
+    Eigen::Vector3f fittedNormal() const;
+  };
+  Sighting sight(const Eigen::Vector3f& q, float range, float tol) const;
+  // Whether the straight path from `from` to q (both relative to the origin) pierces the
+  // surface seen in front of q (at_q: q's sighting, occluded by a fitted surface).
+  bool pathPiercesSeenSurface(const Eigen::Vector3f& from, const Eigen::Vector3f& q, const Sighting& at_q,
+                              const LandingTolerance& tolerance, float behind) const;
+
   // Calls visit(x, j) (j: x's position in the index's sorted order) for every indexed return x
   // (relative to the origin) in the cells that the angular window of `radius` [rad] around
   // `direction` touches, in the index's order, except returns that are certainly outside the

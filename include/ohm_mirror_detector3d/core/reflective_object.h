@@ -53,6 +53,16 @@ struct TypeEvidence
   float real_fraction = std::numeric_limits<float>::quiet_NaN();
   // Mean squared distance between the sampled phantoms and what the sensor saw where they land [m^2].
   float landing_fitness = std::numeric_limits<float>::quiet_NaN();
+  // The intensity of the sampled phantoms against what the surfaces they land on return when seen
+  // directly (reflection_evidence.h: landingIntensityShare): how many have a share, its median,
+  // and the fraction of them that are too dim for a mirror or shiny metal, reflections in glass
+  // (NaN, NaN without any), and whether that made the object glass (object_type.cpp).
+  std::size_t phantom_share_points = 0;
+  float phantom_intensity_share = std::numeric_limits<float>::quiet_NaN();
+  float dim_phantom_fraction = std::numeric_limits<float>::quiet_NaN();
+  bool typed_by_dim_phantoms = false;
+  // The type the geometry of the points behind gave, before their intensities were looked at.
+  ObjectType geometric_type = ObjectType::unknown;
   // Whether the plane was refined from the phantoms, and by how much it turned [rad].
   bool plane_refined = false;
   float plane_correction = 0.0f;
