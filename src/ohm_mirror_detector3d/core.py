@@ -217,7 +217,9 @@ class FilterResult:
       rectangle itself unless grow_objects grew it), growth_capped, plane (a, b, c, d), centre, the counts surface_points, behind_points,
       phantom_points, transmitted_points, ambiguous_points, undecided_points, the type's evidence
       mirrored_points, tested_points, inlier_fraction, real_fraction, landing_fitness,
-      plane_refined, plane_correction, mean_surface_intensity, and with intensity_evidence the intensity
+      phantom_share_points, phantom_intensity_share, dim_phantom_fraction, typed_by_dim_phantoms
+      (the sampled phantoms' brightness against what they land on; glass when enough are too dim
+      for a mirror), plane_refined, plane_correction, mean_surface_intensity, and with intensity_evidence the intensity
       features intensity_echoes, intensity_off_peak, intensity_faint_share, intensity_haze,
       intensity_echo_ratio, intensity_log_odds (mirror against glass, this sweep) and intensity_typed).
     stats: point counts of the stages and the core's wall time; "warnings": a sentence for each stage
