@@ -49,6 +49,30 @@ bool reflectedByIntensity(const ReflectiveObject& object, const Eigen::Vector3f&
   return landingIntensityShare(p, object.reflect(p), intensity, test, origin) < kReflectedIntensityShare;
 }
 
+// Behind glass, a point without evidence of its own (occluded, no return where it would land)
+// may still be a reflection: of what the sensor cannot see (the ceiling above it, in a pane near
+// by), or hidden from it. Its own brightness tells, against the object's: a reflection comes back
+// with R^2 of the light (under 3 % for glass below 62 deg incidence), a point seen through with
+// (1 - R)^2 (85 % and more). Where the object's sampled phantoms are at least
+// kFaintPhantomContrast times fainter than the points seen through it (both: median intensity x
+// range^2, object_type.cpp; without enough points seen through, what its phantoms land on,
+// seen directly, stands for them), a point fainter than their geometric mean is a reflection.
+// Measured on random scenes 3000-3022 (32-ring lidar, the glass objects with both medians, points
+// seen through): of the undecided points it takes for reflections, 1932 were phantoms, 138 real.
+constexpr float kFaintPhantomContrast = 10.0f;
+
+bool fainterThanSeenThrough(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
+                            const Eigen::Vector3f& origin)
+{
+  const float phantom = object.evidence.phantom_brightness;
+  const float seen_through = std::isfinite(object.evidence.transmitted_brightness) ?
+                                 object.evidence.transmitted_brightness :
+                                 object.evidence.landing_brightness;
+  if (!(intensity > 0.0f) || !(phantom > 0.0f) || !(seen_through >= kFaintPhantomContrast * phantom))
+    return false;
+  return intensity * (p - origin).squaredNorm() < std::sqrt(phantom * seen_through);
+}
+
 // What the points behind an object said as a whole: its type, except for glass typed by its
 // faint phantoms where the geometry said mirror (object_type.cpp: it showed reflections and
 // nothing that could be proved real), whose points said "reflection".
@@ -287,6 +311,9 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
       label = behindLabel(object, outcome);
       if (kept_as_real && outcome == ReflectionOutcome::ambiguous &&
           reflectedByIntensity(object, echo.points[i], echo.intensities[i], test, evidence.get().sensorOrigin()))
+        label = Label::behindReflective;
+      if (kept_as_real && (outcome == ReflectionOutcome::occluded || outcome == ReflectionOutcome::noReturn) &&
+          fainterThanSeenThrough(object, echo.points[i], echo.intensities[i], evidence.get().sensorOrigin()))
         label = Label::behindReflective;
       ++object.behind_points;
       switch (outcome)

@@ -59,6 +59,9 @@ constexpr float kGlassRealFraction = 0.2f;
 constexpr float kDimPhantomShare = 0.03f;
 constexpr float kDimPhantomFraction = 0.3f;
 constexpr std::size_t kMinDimPhantomSamples = 10;
+// The brightness of an object's phantoms and of the points seen through it (TypeEvidence) are
+// medians over at least this many sampled points with an intensity.
+constexpr std::size_t kMinBrightnessSamples = 10;
 // Points behind whose ray crosses the plane within this of the rectangle's border (at most a
 // quarter of its side) are not counted for the type: through the border and the cone's margin
 // the sensor sees what lies beside the surface.
@@ -375,6 +378,31 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
     const std::size_t dim = static_cast<std::size_t>(std::count_if(
         b.shares.begin(), b.shares.end(), [](float share) { return share < kDimPhantomShare; }));
     result.dim_phantom_fraction = static_cast<float>(dim) / static_cast<float>(b.shares.size());
+  }
+  // How bright (intensity x range^2) the sampled phantoms and the sampled points seen through are.
+  auto brightness = [&](ReflectionOutcome outcome) {
+    b.shares.clear();
+    for (std::size_t s = 0; s < samples; ++s)
+      if (b.tests[s].outcome == outcome && b.sample_intensity[s] > 0.0f)
+        b.shares.push_back(b.sample_intensity[s] * (b.sample[s] - sensor_origin).squaredNorm());
+    if (b.shares.size() < kMinBrightnessSamples)
+      return std::numeric_limits<float>::quiet_NaN();
+    const auto middle = b.shares.begin() + static_cast<std::ptrdiff_t>(b.shares.size() / 2);
+    std::nth_element(b.shares.begin(), middle, b.shares.end());
+    return *middle;
+  };
+  result.phantom_brightness = brightness(ReflectionOutcome::phantom);
+  result.transmitted_brightness = brightness(ReflectionOutcome::transmitted);
+  // And what those phantoms land on, seen directly.
+  b.shares.clear();
+  for (std::size_t s = 0; s < samples; ++s)
+    if (b.tests[s].outcome == ReflectionOutcome::phantom && b.tests[s].seen_intensity > 0.0f)
+      b.shares.push_back(b.tests[s].seen_intensity * b.tests[s].seen_range * b.tests[s].seen_range);
+  if (b.shares.size() >= kMinBrightnessSamples)
+  {
+    const auto middle = b.shares.begin() + static_cast<std::ptrdiff_t>(b.shares.size() / 2);
+    std::nth_element(b.shares.begin(), middle, b.shares.end());
+    result.landing_brightness = *middle;
   }
   auto estimated = [weight](std::size_t n) {
     return static_cast<std::size_t>(std::lround(static_cast<double>(n) * weight));

@@ -280,6 +280,9 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["phantom_share_points"] = e.phantom_share_points;
   d["dim_phantom_fraction"] = static_cast<double>(e.dim_phantom_fraction);
   d["typed_by_dim_phantoms"] = e.typed_by_dim_phantoms;
+  d["phantom_brightness"] = static_cast<double>(e.phantom_brightness);
+  d["transmitted_brightness"] = static_cast<double>(e.transmitted_brightness);
+  d["landing_brightness"] = static_cast<double>(e.landing_brightness);
   d["landing_fitness"] = static_cast<double>(e.landing_fitness);
   d["plane_refined"] = e.plane_refined;
   d["plane_correction"] = static_cast<double>(e.plane_correction);

@@ -313,6 +313,41 @@ TEST(ConeLabelling, APathThatMayGoOnThroughAnotherMirrorProvesNothing)
   EXPECT_EQ(counts[Label::behindTransparent], 0u);
 }
 
+TEST(ConeLabelling, BehindGlassAPointWithoutEvidenceFarFainterThanWhatIsSeenThroughIsAReflection)
+{
+  // Nothing seen in front of the pane: no point behind it can be told by its geometry. Its
+  // sampled phantoms came back with a brightness (intensity x r^2) of 10, what was seen through
+  // it with 1000; behind it, where y > 0, points of brightness 5, elsewhere of 900.
+  core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
+  sweep.has_intensity = true;
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
+    }
+  for (const float seen_through : { 1000.0f, 50.0f })
+  {
+    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass) };
+    objects[0].evidence.phantom_brightness = 10.0f;
+    objects[0].evidence.transmitted_brightness = seen_through;
+    const Labelled out = label(sweep, objects);
+    std::size_t faint = 0, bright = 0;
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+      if (out.assignment.echoes[0][i] == 0)
+      {
+        const bool is_faint = sweep.echoes[0].points[i].y() > 0.0f;
+        // Only ten times fainter than seen through or more is the contrast enough to tell.
+        const Label expected =
+            is_faint && seen_through >= 100.0f ? Label::behindReflective : Label::behindTransparent;
+        EXPECT_EQ(out.labels.echoes[0][i], expected) << "seen through " << seen_through;
+        (is_faint ? faint : bright) += 1;
+      }
+    EXPECT_GT(faint, 50u);
+    EXPECT_GT(bright, 50u);
+  }
+}
+
 TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
 {
   // Nothing seen in front of the surface: no point behind can be told by itself.

@@ -63,6 +63,13 @@ struct TypeEvidence
   bool typed_by_dim_phantoms = false;
   // The type the geometry of the points behind gave, before their intensities were looked at.
   ObjectType geometric_type = ObjectType::unknown;
+  // Median brightness (intensity x range^2) of the sampled phantoms and of the sampled points seen
+  // through (NaN: fewer than 10 with an intensity). Behind glass, a point without evidence of its
+  // own that is far fainter than what is seen through is a reflection (cone_labelling.cpp).
+  float phantom_brightness = std::numeric_limits<float>::quiet_NaN();
+  float transmitted_brightness = std::numeric_limits<float>::quiet_NaN();
+  // The median brightness of what those phantoms land on, seen directly (NaN: fewer than 10).
+  float landing_brightness = std::numeric_limits<float>::quiet_NaN();
   // Whether the plane was refined from the phantoms, and by how much it turned [rad].
   bool plane_refined = false;
   float plane_correction = 0.0f;
