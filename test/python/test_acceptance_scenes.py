@@ -3,9 +3,8 @@ physics, every sensor family) on fixed-seed scenes.
 
 * test_subset_holds (run by `make test`): random scenes 0-7 of every family. Where the filter meets
   issue 14's target on them, the target is asserted; where it does not yet, the level it reached
-  (evaluation/quality14_defaults/ for the full run, these scenes for the subset) is asserted with a
-  little slack, so that a regression fails while the target stays in view (SUBSET_LEVELS; each one
-  names the target it falls short of). Raise a level when the filter gets better; replace it by the
+  on these scenes is asserted with a little slack, so that a regression fails while the target
+  stays in view (SUBSET_LEVELS; each one names the target it falls short of). Raise a level when the filter gets better; replace it by the
   target when the target is met.
 * test_target_is_met (OHM_ACCEPTANCE=1 only): the targets themselves on random scenes 0-11 and the
   named scenes; not met yet (see the README's issue-14 table):
@@ -34,18 +33,23 @@ _WRONG_PLACE = ('double_echo_phantom_wrong_place_fraction',)
 _TYPES = ('object_types', 'fraction')
 
 # Per family, the figures whose issue-14 target the filter does not meet on the subset yet: the
-# bound it must still hold (the level reached on scenes 0-7, less 0.03 of an IoU, 3 percentage
-# points of phantoms left at a wrong place, 8 points of types right: one or two objects). The
+# bound it must still hold (the level reached on scenes 0-7 at stop 28, less 0.03 of an IoU, 3
+# percentage points of phantoms left at a wrong place, 8 points of types right: one or two
+# objects). Reached then: rotating Hokuyo surface IoU 0.544, phantom IoU 0.420, behind-glass IoU
+# 0.271, phantoms left 55.2 %, types 57 %; Hesai phantom IoU 0.598, phantoms left 38.9 %, types
+# 54 %; Ouster phantom IoU 0.523, phantoms left 45.7 %, types 65 %; Velodyne surface IoU 0.532,
+# phantom IoU 0.244, behind-glass IoU 0.299, phantoms left 80.1 %, types 52 %. The Hesai's and
+# the Ouster's behind-glass IoU (0.824, 0.814) meet the target, which is asserted instead. The
 # targets: surface IoU >= 0.85, phantom and behind-glass IoU >= 0.80, phantoms left at a wrong
 # place <= 2 %, types right >= 90 %. Every other target (surface IoU where met, real points lost
 # <= 0.3 %, false objects in <= 5 % of the scenes without reflective surfaces) is asserted as it is.
 SUBSET_LEVELS = {
-    'hokuyo_utm30lx_ew': {_IOU_SURFACE: 0.51, _IOU_PHANTOM: 0.37, _IOU_GLASS: 0.22, _WRONG_PLACE: 0.62,
+    'hokuyo_utm30lx_ew': {_IOU_SURFACE: 0.51, _IOU_PHANTOM: 0.39, _IOU_GLASS: 0.24, _WRONG_PLACE: 0.58,
                           _TYPES: 0.49},
-    'hesai_qt64': {_IOU_PHANTOM: 0.40, _IOU_GLASS: 0.71, _WRONG_PLACE: 0.57, _TYPES: 0.38},
-    'ouster_os0_128': {_IOU_PHANTOM: 0.42, _IOU_GLASS: 0.72, _WRONG_PLACE: 0.54, _TYPES: 0.57},
-    'velodyne_hdl32e': {_IOU_SURFACE: 0.50, _IOU_PHANTOM: 0.18, _IOU_GLASS: 0.21, _WRONG_PLACE: 0.86,
-                        _TYPES: 0.30},
+    'hesai_qt64': {_IOU_PHANTOM: 0.57, _WRONG_PLACE: 0.42, _TYPES: 0.46},
+    'ouster_os0_128': {_IOU_PHANTOM: 0.49, _WRONG_PLACE: 0.49, _TYPES: 0.57},
+    'velodyne_hdl32e': {_IOU_SURFACE: 0.50, _IOU_PHANTOM: 0.21, _IOU_GLASS: 0.27, _WRONG_PLACE: 0.83,
+                        _TYPES: 0.44},
 }
 
 _TARGETS = [t for t in ev.TARGETS if t[3] is not None]
