@@ -4,8 +4,8 @@ physics, every sensor family) on fixed-seed scenes.
 * test_subset_holds (run by `make test`): random scenes 0-7 of every family. Where the filter meets
   issue 14's target on them, the target is asserted; where it does not yet, the level it reached
   on these scenes is asserted with a little slack, so that a regression fails while the target
-  stays in view (SUBSET_LEVELS; each one names the target it falls short of). Raise a level when the filter gets better; replace it by the
-  target when the target is met.
+  stays in view (SUBSET_LEVELS; each one names the target it falls short of). Raise a level when
+  the filter gets better; replace it by the target when the target is met.
 * test_target_is_met (OHM_ACCEPTANCE=1 only): the targets themselves on random scenes 0-11 and the
   named scenes; not met yet (see the README's issue-14 table):
 
