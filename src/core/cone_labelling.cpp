@@ -421,6 +421,51 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
       }
     }
   }
+  // The points in the vision cones of the objects' phantom planes (phantom_planes.h) and in no
+  // object's own: behind the object's plane, each is labelled by its own evidence against it (a
+  // phantom, or seen through); without it, it is kept (behindTransparent) where the object's
+  // points or the phantom plane's said glass, but never taken for a phantom (behindErrorS).
+  for (std::size_t j = 0; j < objects.size(); ++j)
+  {
+    ReflectiveObject& object = objects[j];
+    for (const ReflectiveObject& phantom_plane : object.phantom_planes)
+    {
+      const VisionCone cone(phantom_plane, sensor_origin, plane_threshold, margin);
+      for (std::size_t k = 0; k < 2; ++k)
+        for (std::size_t i = 0; i < beams; ++i)
+        {
+          Label& label = labels.echoes[k][i];
+          if (label == Label::nanPoint || assignment.echoes[k][i] != ObjectAssignment::kNoObject)
+            continue;
+          const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+          const ConeRelation relation = cone.locate(p).relation;
+          if ((relation != ConeRelation::onSurface && relation != ConeRelation::behind) ||
+              !(object.signedDistance(p) < -plane_threshold))
+            continue;
+          const ReflectionOutcome outcome = evidence.get().test(object.plane, p, object.landing_tolerance).outcome;
+          assignment.echoes[k][i] = static_cast<std::int32_t>(j);
+          ++object.behind_points;
+          switch (outcome)
+          {
+            case ReflectionOutcome::phantom:
+              label = Label::behindReflective;
+              ++object.phantom_points;
+              break;
+            case ReflectionOutcome::transmitted:
+              label = Label::behindTransparent;
+              ++object.transmitted_points;
+              break;
+            default:
+              label = behindLabel(object, outcome) == Label::behindTransparent ||
+                              behindLabel(phantom_plane, outcome) == Label::behindTransparent ?
+                          Label::behindTransparent :
+                          Label::behindErrorS;
+              ++(outcome == ReflectionOutcome::ambiguous ? object.ambiguous_points : object.undecided_points);
+              break;
+          }
+        }
+    }
+  }
   for (std::size_t j = 0; j < objects.size(); ++j)
     objects[j].mean_surface_intensity = intensity_counts[j] > 0 ?
                                             static_cast<float>(intensity_sums[j] / intensity_counts[j]) :

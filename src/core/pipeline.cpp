@@ -3,6 +3,7 @@
 #include "ohm_mirror_detector3d/core/glass_growth.h"
 #include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/mirror_growth.h"
+#include "ohm_mirror_detector3d/core/phantom_planes.h"
 #include "ohm_mirror_detector3d/core/post_filter.h"
 
 #include <chrono>
@@ -69,6 +70,9 @@ void countRemoved(const std::vector<std::uint8_t>& marks, const SweepLabels& lab
 std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& configs, ObjectMap& object_map)
 {
   std::vector<std::unique_ptr<ObjectStage>> stages;
+  // First: an object made of another's phantoms is no surface, to grow or to type by intensity.
+  if (configs.phantom_planes.enabled)
+    stages.push_back(std::make_unique<PhantomPlanes>(configs.phantom_planes));
   // Before the growth stages, which grow mirrors and panes by their type.
   if (configs.intensity.enabled)
     stages.push_back(std::make_unique<IntensityEvidence>(configs.intensity));

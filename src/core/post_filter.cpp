@@ -1,6 +1,7 @@
 #include "ohm_mirror_detector3d/core/post_filter.h"
 
 #include <algorithm>
+#include <iterator>
 
 namespace ohm_mirror_detector3d
 {
@@ -32,10 +33,14 @@ void PostFilter::process(const Sweep& /*sweep*/, const SweepContext& context, co
     const std::size_t m = indexOf(merged_ids_[k]);
     if (m == map_objects.size())
       continue;  // not merged (a non-finite plane): it cannot label either
+    // This sweep's phantom planes of the object (phantom_planes.h, in the sweep's frame) go with it.
     if (placed[m])
     {
-      std::vector<PointRef>& inliers = labelling_[labelling_of[m]].surface_inliers;
-      inliers.insert(inliers.end(), objects[k].surface_inliers.begin(), objects[k].surface_inliers.end());
+      ReflectiveObject& target = labelling_[labelling_of[m]];
+      target.surface_inliers.insert(target.surface_inliers.end(), objects[k].surface_inliers.begin(),
+                                    objects[k].surface_inliers.end());
+      std::move(objects[k].phantom_planes.begin(), objects[k].phantom_planes.end(),
+                std::back_inserter(target.phantom_planes));
       continue;
     }
     placed[m] = true;
@@ -44,6 +49,7 @@ void PostFilter::process(const Sweep& /*sweep*/, const SweepContext& context, co
     ReflectiveObject& replaced = labelling_.back();
     replaced.evidence = objects[k].evidence;
     replaced.surface_inliers = std::move(objects[k].surface_inliers);
+    replaced.phantom_planes = std::move(objects[k].phantom_planes);
   }
   // The map objects this sweep did not see.
   for (std::size_t m = 0; m < map_objects.size(); ++m)

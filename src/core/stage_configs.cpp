@@ -63,6 +63,8 @@ StageConfigs stageConfigs(const Params& params)
       ObjectTypeConfig{ params.plane_threshold,       params.vision_cone_margin, params.icp_max_distance,
                         params.icp_fitness_threshold, params.icp_min_points,     params.icp_min_inlier_fraction };
   configs.cone_labelling = ConeLabellingConfig{ params.plane_threshold, params.vision_cone_margin };
+  configs.phantom_planes.enabled = params.phantom_plane_share > 0.0;
+  configs.phantom_planes.min_share = static_cast<float>(params.phantom_plane_share);
   configs.growth.enabled = params.grow_objects != 0;
   configs.growth.plane_threshold = static_cast<float>(params.plane_threshold);
   configs.growth.max_growth = static_cast<float>(params.growth_max_extent);

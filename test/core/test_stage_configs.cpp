@@ -92,6 +92,8 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.object_type.icp_min_inlier_fraction != before.object_type.icp_min_inlier_fraction ||
         after.cone_labelling.plane_threshold != before.cone_labelling.plane_threshold ||
         after.cone_labelling.cone_margin != before.cone_labelling.cone_margin ||
+        after.phantom_planes.enabled != before.phantom_planes.enabled ||
+        after.phantom_planes.min_share != before.phantom_planes.min_share ||
         after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth ||
         after.reflection_chains.max_reflections != before.reflection_chains.max_reflections ||
         after.object_map.enabled != before.object_map.enabled ||

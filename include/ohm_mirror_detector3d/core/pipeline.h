@@ -3,8 +3,9 @@
 //     extraction, mixed pixels, the per-point evidence (reflection_evidence.h), type decision
 //     (the objects and why);
 //   object stages: an ordered list of optional stages on whole objects (object_stage.h): first
-//     those the parameters switch on (grow_objects: mirror_growth.h, glass_growth.h), built
-//     here from Params for every front end alike, then any added with addObjectStage;
+//     those the parameters switch on (phantom_plane_share: phantom_planes.h; grow_objects:
+//     mirror_growth.h, glass_growth.h), built here from Params for every front end alike, then
+//     any added with addObjectStage;
 //   label: cone labelling, reflection chains (where each phantom really is, reflection_chains.h),
 //     cleaned output with back-projection.
 // The stages are built from Params (stage_configs.h), each with only its own values; the

@@ -122,6 +122,11 @@ struct ReflectiveObject
   // The errorSurface points the plane was fitted to.
   std::vector<PointRef> surface_inliers;
 
+  // Objects that were this object's phantoms (phantom_planes.h), as they were found: the cone
+  // labelling labels the points in their vision cones (and in no object's own) by their own
+  // evidence against this object's plane.
+  std::vector<ReflectiveObject> phantom_planes;
+
   // Filled by cone labelling: points of both echoes on the surface and behind it, and what the
   // points behind said each (ReflectionOutcome): phantoms, transmitted, landing on a surface
   // that continues through the plane, and the rest (occluded, out of view, no return).

@@ -17,6 +17,7 @@
 #include "ohm_mirror_detector3d/core/outlier_filter.h"
 #include "ohm_mirror_detector3d/core/plane_crossings.h"
 #include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/phantom_planes.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
 #include "ohm_mirror_detector3d/core/reflection_chains.h"
 
@@ -33,6 +34,7 @@ struct StageConfigs
   MixedPixelConfig mixed_pixels;
   ObjectTypeConfig object_type;
   ConeLabellingConfig cone_labelling;
+  PhantomPlaneConfig phantom_planes;
   ObjectGrowthConfig growth;  // mirror_growth.h and glass_growth.h
   ReflectionChainConfig reflection_chains;
   ObjectMapConfig object_map;  // post_filter.h

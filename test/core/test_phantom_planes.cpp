@@ -1,0 +1,193 @@
+#include <gtest/gtest.h>
+
+#include "growth_fixtures.h"
+#include "traced_scene.h"
+
+#include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/params.h"
+#include "ohm_mirror_detector3d/core/phantom_planes.h"
+#include "ohm_mirror_detector3d/core/stage_configs.h"
+
+#include <cmath>
+
+namespace ohm_mirror_detector3d
+{
+namespace
+{
+using core::Label;
+using core::ObjectType;
+using test::Panel;
+using test::Surface;
+
+constexpr float kBack = 2.5f;     // the back wall, x = -2.5
+constexpr float kMirror = 1.99f;  // the mirror, 1 cm in front of the front wall at x = 2
+// The back wall's phantom in the mirror: its mirror image across x = kMirror.
+constexpr float kPhantomWall = kMirror + (kMirror + kBack);
+
+// A room with a large mirror on its front wall: through most of the mirror the sensor sees the
+// back wall's phantom, single returns at x = kPhantomWall.
+test::TracedScene mirrorRoom()
+{
+  test::TracedScene scene;
+  scene.panels = test::room(kBack, 2.0f, 2.5f, 1.0f, 1.5f);
+  scene.panels.push_back({ 0, kMirror, { -1.5f, -0.8f }, { 1.5f, 1.2f }, Surface::mirror });
+  return scene;
+}
+
+// A free-standing pane at x = 2 in a room whose front wall is at x = 4: through it the sensor
+// sees the front wall itself.
+test::TracedScene paneRoom()
+{
+  test::TracedScene scene;
+  scene.panels = test::room(kBack, 4.0f, 2.5f, 1.0f, 1.5f);
+  scene.panels.push_back({ 0, 2.0f, { -1.5f, -0.8f }, { 1.5f, 1.2f }, Surface::glass });
+  return scene;
+}
+
+core::Sweep sweepOf(const test::TracedScene& scene)
+{
+  return scene.sweep(-180.0f, 179.5f, -60.0f, 60.0f, 0.5f);
+}
+
+// An object on the plane x = distance (centred at y, z, `size` across) made of the first echoes
+// of the sweep that lie on it inside its rectangle, as object extraction would have fitted it.
+core::ReflectiveObject objectOfEchoes(const core::Sweep& sweep, float distance, float y, float z, float size,
+                                      ObjectType type)
+{
+  core::ReflectiveObject object = test::patchAt(distance, y, z, size, type);
+  for (std::size_t b = 0; b < sweep.beamCount(); ++b)
+  {
+    const Eigen::Vector3f& p = sweep.echoes[0].points[b];
+    if (p.allFinite() && std::fabs(p.x() - distance) < 0.02f && std::fabs(p.y() - y) <= 0.5f * size &&
+        std::fabs(p.z() - z) <= 0.5f * size)
+      object.surface_inliers.push_back(core::PointRef{ static_cast<std::uint32_t>(b), 0 });
+  }
+  return object;
+}
+
+core::PhantomPlaneConfig phantomPlaneConfig()
+{
+  return core::stageConfigs(core::Params()).phantom_planes;
+}
+
+std::vector<core::ReflectiveObject> afterStage(const core::Sweep& sweep, std::vector<core::ReflectiveObject> objects)
+{
+  const test::Detected detected(sweep);
+  core::SweepLabels labels = detected.labels;
+  core::PhantomPlanes(phantomPlaneConfig()).process(sweep, core::SweepContext(), detected.evidence, labels, objects);
+  return objects;
+}
+
+TEST(PhantomPlanes, TheDefaultsSwitchTheStageOn)
+{
+  const core::PhantomPlaneConfig config = phantomPlaneConfig();
+  EXPECT_TRUE(config.enabled);
+  EXPECT_FLOAT_EQ(config.min_share, 0.5f);
+  core::Params off;
+  off.phantom_plane_share = 0.0;
+  EXPECT_FALSE(core::stageConfigs(off).phantom_planes.enabled);
+}
+
+TEST(PhantomPlanes, AnObjectMadeOfAMirrorsPhantomsIsHandedToTheMirror)
+{
+  const core::Sweep sweep = sweepOf(mirrorRoom());
+  // The mirror's surface echoes: its near-perpendicular patch.
+  const core::ReflectiveObject mirror = objectOfEchoes(sweep, kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror);
+  // The back wall's phantom seen through the mirror up and to the side of its patch.
+  const core::ReflectiveObject phantom = objectOfEchoes(sweep, kPhantomWall, 1.2f, 0.6f, 0.8f, ObjectType::glass);
+  ASSERT_GE(mirror.surface_inliers.size(), 50u);
+  ASSERT_GE(phantom.surface_inliers.size(), 50u);
+
+  const test::Detected detected(sweep);
+  const Eigen::Vector3f origin = Eigen::Vector3f::Zero();
+  const core::PhantomPlanes stage(phantomPlaneConfig());
+  EXPECT_GE(stage.phantomShare(sweep, origin, detected.evidence, phantom, mirror), 0.9f);
+  EXPECT_LE(stage.phantomShare(sweep, origin, detected.evidence, mirror, phantom), 0.0f);
+
+  // In either order: the phantom plane goes, the mirror stays, renumbered, and keeps it.
+  for (const bool mirror_first : { true, false })
+  {
+    const std::vector<core::ReflectiveObject> objects =
+        afterStage(sweep, mirror_first ? std::vector<core::ReflectiveObject>{ mirror, phantom } :
+                                         std::vector<core::ReflectiveObject>{ phantom, mirror });
+    ASSERT_EQ(objects.size(), 1u);
+    EXPECT_EQ(objects[0].type, ObjectType::mirror);
+    EXPECT_EQ(objects[0].id, 0u);
+    ASSERT_EQ(objects[0].phantom_planes.size(), 1u);
+    EXPECT_NEAR(objects[0].phantom_planes[0].centre.x(), kPhantomWall, 1e-4f);
+  }
+}
+
+TEST(PhantomPlanes, AnObjectOfFarMoreEchoesIsNoPhantomPlaneOfAnother)
+{
+  // A "mirror" of only a few surface echoes does not take an object of many more.
+  const core::Sweep sweep = sweepOf(mirrorRoom());
+  core::ReflectiveObject speck = objectOfEchoes(sweep, kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror);
+  const core::ReflectiveObject phantom = objectOfEchoes(sweep, kPhantomWall, 1.2f, 0.6f, 0.8f, ObjectType::glass);
+  speck.surface_inliers.resize(phantom.surface_inliers.size() / 5);
+  const std::vector<core::ReflectiveObject> objects = afterStage(sweep, { speck, phantom });
+  EXPECT_EQ(objects.size(), 2u);
+}
+
+TEST(PhantomPlanes, AWallSeenThroughGlassIsNoPhantom)
+{
+  // The front wall behind the pane, reflected across it, lands where the sensor saw further.
+  const core::Sweep sweep = sweepOf(paneRoom());
+  core::ReflectiveObject pane = test::patchAt(2.0f, 0.0f, 0.0f, 0.2f, ObjectType::glass);
+  pane.surface_inliers.resize(200, core::PointRef{ 0, 0 });  // as many surface echoes as a pane's patch
+  const core::ReflectiveObject wall = objectOfEchoes(sweep, 4.0f, 1.0f, 0.4f, 0.8f, ObjectType::unknown);
+  ASSERT_GE(wall.surface_inliers.size(), 50u);
+  const std::vector<core::ReflectiveObject> objects = afterStage(sweep, { pane, wall });
+  ASSERT_EQ(objects.size(), 2u);
+  EXPECT_TRUE(objects[0].phantom_planes.empty());
+  EXPECT_TRUE(objects[1].phantom_planes.empty());
+}
+
+TEST(PhantomPlanes, APatchJustBehindAnotherObjectsPlaneIsNoPhantomOfIt)
+{
+  // Reflected across a plane they (nearly) lie on, points land next to themselves: that is no
+  // evidence of a reflection. A patch of the front wall, and another object whose plane lies 4 cm
+  // in front of it (a pane in a frame, or a fragment of one surface fitted a little apart).
+  test::TracedScene scene;
+  scene.panels = test::room(kBack, 2.0f, 2.5f, 1.0f, 1.5f);
+  const core::Sweep sweep = sweepOf(scene);
+  const core::ReflectiveObject patch = objectOfEchoes(sweep, 2.0f, 0.0f, 0.0f, 0.4f, ObjectType::unknown);
+  ASSERT_GE(patch.surface_inliers.size(), 50u);
+  const core::ReflectiveObject other = test::patchAt(1.96f, 0.8f, 0.5f, 0.3f, ObjectType::glass);
+  const std::vector<core::ReflectiveObject> objects = afterStage(sweep, { other, patch });
+  EXPECT_EQ(objects.size(), 2u);
+}
+
+TEST(PhantomPlanes, TheConeLabellingLabelsThePhantomPlanesPointsAgainstTheirMirror)
+{
+  // The mirror's patch is small; its phantom plane's cone is outside its own. The points there
+  // are the mirror's phantoms, labelled so and assigned to it (back-projected across its plane).
+  const core::Sweep sweep = sweepOf(mirrorRoom());
+  core::ReflectiveObject mirror = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror);
+  mirror.phantom_planes.push_back(objectOfEchoes(sweep, kPhantomWall, 1.2f, 0.6f, 0.8f, ObjectType::glass));
+  std::vector<core::ReflectiveObject> objects{ mirror };
+  const test::Detected detected(sweep);
+  core::SweepLabels labels = detected.labels;
+  core::ObjectAssignment assignment;
+  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
+      .apply(sweep, Eigen::Vector3f::Zero(), detected.evidence, objects, labels, assignment);
+  std::size_t phantoms = 0, others = 0;
+  for (const core::PointRef& ref : mirror.phantom_planes[0].surface_inliers)
+  {
+    EXPECT_EQ(assignment.echoes[ref.echo][ref.beam], 0);
+    ++(labels.echoes[ref.echo][ref.beam] == Label::behindReflective ? phantoms : others);
+  }
+  EXPECT_GE(phantoms, 9 * (phantoms + others) / 10);
+  EXPECT_GE(objects[0].phantom_points, phantoms);
+
+  // Without the phantom plane, the same points are outside every cone.
+  std::vector<core::ReflectiveObject> alone{ test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror) };
+  core::SweepLabels plain = detected.labels;
+  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
+      .apply(sweep, Eigen::Vector3f::Zero(), detected.evidence, alone, plain, assignment);
+  const core::PointRef first = mirror.phantom_planes[0].surface_inliers.front();
+  EXPECT_EQ(plain.echoes[first.echo][first.beam], Label::valid);
+}
+
+}  // namespace
+}  // namespace ohm_mirror_detector3d
