@@ -442,7 +442,11 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
           if ((relation != ConeRelation::onSurface && relation != ConeRelation::behind) ||
               !(object.signedDistance(p) < -plane_threshold))
             continue;
-          const ReflectionOutcome outcome = evidence.get().test(object.plane, p, object.landing_tolerance).outcome;
+          ReflectionOutcome outcome = evidence.get().test(object.plane, p, object.landing_tolerance).outcome;
+          // Beyond the phantom plane, the image of a wall, no reflection in the object shows anything
+          // (it would show what lies behind that wall): landing there proves nothing.
+          if (outcome == ReflectionOutcome::phantom && phantom_plane.signedDistance(p) < -plane_threshold)
+            outcome = ReflectionOutcome::noReturn;
           assignment.echoes[k][i] = static_cast<std::int32_t>(j);
           ++object.behind_points;
           switch (outcome)

@@ -189,5 +189,35 @@ TEST(PhantomPlanes, TheConeLabellingLabelsThePhantomPlanesPointsAgainstTheirMirr
   EXPECT_EQ(plain.echoes[first.echo][first.beam], Label::valid);
 }
 
+TEST(PhantomPlanes, APointBeyondAPhantomPlaneIsNoPhantomOfItsObject)
+{
+  // A phantom plane is the image of a wall; what lies beyond it would be behind that wall, which no
+  // reflection shows. Here the phantom plane is taken 1.5 m nearer than the back wall's phantoms:
+  // those, beyond it, land on the back wall across the mirror all the same, but prove nothing.
+  const core::Sweep sweep = sweepOf(mirrorRoom());
+  core::ReflectiveObject mirror = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror);
+  const core::ReflectiveObject on_it = objectOfEchoes(sweep, kPhantomWall, 1.2f, 0.6f, 0.8f, ObjectType::glass);
+  core::ReflectiveObject nearer = on_it;
+  nearer.plane[3] -= 1.5f;
+  nearer.centre.x() -= 1.5f;
+  mirror.phantom_planes.push_back(nearer);
+  std::vector<core::ReflectiveObject> objects{ mirror };
+  const test::Detected detected(sweep);
+  core::SweepLabels labels = detected.labels;
+  core::ObjectAssignment assignment;
+  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
+      .apply(sweep, Eigen::Vector3f::Zero(), detected.evidence, objects, labels, assignment);
+  std::size_t in_cone = 0, phantoms = 0;
+  for (const core::PointRef& ref : on_it.surface_inliers)
+  {
+    if (assignment.echoes[ref.echo][ref.beam] != 0)
+      continue;
+    ++in_cone;
+    phantoms += labels.echoes[ref.echo][ref.beam] == Label::behindReflective ? 1 : 0;
+  }
+  ASSERT_GE(in_cone, 50u);
+  EXPECT_EQ(phantoms, 0u);  // (phantoms in the cone nearer than the phantom plane are still taken)
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

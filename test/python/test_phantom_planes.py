@@ -3,8 +3,9 @@ Python bindings: an object made of another object's phantoms is removed, and its
 right (back-projected across the plane of the object they are phantoms of).
 
 Random scene 7 on the rotating Hokuyo (realistic physics, default parameters, the evaluation's own
-case): with the stage, one object fewer and 945 fewer double-echo phantoms left at a wrong place
-than with phantom_plane_share 0 (measured at stop 29), with 18 more real points displaced.
+case): with the stage, 5 objects fewer (11 instead of 16), 945 fewer double-echo phantoms left at
+a wrong place, 432 fewer real points displaced and 13 fewer lost than with phantom_plane_share 0
+(measured at stop 29).
 """
 import dataclasses
 
@@ -48,6 +49,6 @@ def test_its_phantoms_are_put_right(with_and_without):
     left_on = on['counts']['double_echo_phantoms_wrong_place']
     left_off = off['counts']['double_echo_phantoms_wrong_place']
     assert left_on <= left_off - 500, (left_on, left_off)
-    # ... without moving real points that were right (18 more at stop 29).
-    assert on['counts']['real_displaced'] <= off['counts']['real_displaced'] + 100
+    # ... and the real points behind the phantom planes stay where they are.
+    assert on['counts']['real_displaced'] <= off['counts']['real_displaced']
     assert on['counts']['real_lost'] <= off['counts']['real_lost']
