@@ -242,6 +242,19 @@ private:
   std::vector<std::vector<VisionCone>> cones_;
 };
 
+// Counts a point behind the object by what it said (ReflectionOutcome).
+void countBehind(ReflectiveObject& object, ReflectionOutcome outcome)
+{
+  ++object.behind_points;
+  switch (outcome)
+  {
+    case ReflectionOutcome::phantom: ++object.phantom_points; break;
+    case ReflectionOutcome::transmitted: ++object.transmitted_points; break;
+    case ReflectionOutcome::ambiguous: ++object.ambiguous_points; break;
+    default: ++object.undecided_points; break;
+  }
+}
+
 // Labels the points of beams [block, block_end) of one echo, testing only the cones in
 // `reachable` (every other cone is known to miss the block).
 void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end, const std::vector<std::size_t>& reachable,
@@ -315,14 +328,52 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
       if (kept_as_real && (outcome == ReflectionOutcome::occluded || outcome == ReflectionOutcome::noReturn) &&
           fainterThanSeenThrough(object, echo.points[i], echo.intensities[i], evidence.get().sensorOrigin()))
         label = Label::behindReflective;
-      ++object.behind_points;
-      switch (outcome)
-      {
-        case ReflectionOutcome::phantom: ++object.phantom_points; break;
-        case ReflectionOutcome::transmitted: ++object.transmitted_points; break;
-        case ReflectionOutcome::ambiguous: ++object.ambiguous_points; break;
-        default: ++object.undecided_points; break;
-      }
+      countBehind(object, outcome);
+    }
+  }
+}
+
+// The points in the vision cones of the objects' phantom planes (phantom_planes.h) and in no
+// object's own: behind the object's plane, each is labelled by its own evidence against it (a
+// phantom, or seen through); without it, it is kept (behindTransparent) where the object's
+// points or the phantom plane's said glass, but never taken for a phantom (behindErrorS). Beyond
+// the phantom plane, the image of a wall, no reflection in the object shows anything (it would
+// show what lies behind that wall): landing there proves nothing.
+void labelPhantomPlaneCones(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, float plane_threshold,
+                            float margin, LazyEvidence& evidence, std::vector<ReflectiveObject>& objects,
+                            SweepLabels& labels, ObjectAssignment& assignment)
+{
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t j = 0; j < objects.size(); ++j)
+  {
+    ReflectiveObject& object = objects[j];
+    for (const ReflectiveObject& phantom_plane : object.phantom_planes)
+    {
+      const VisionCone cone(phantom_plane, sensor_origin, plane_threshold, margin);
+      for (std::size_t k = 0; k < 2; ++k)
+        for (std::size_t i = 0; i < beams; ++i)
+        {
+          Label& label = labels.echoes[k][i];
+          if (label == Label::nanPoint || assignment.echoes[k][i] != ObjectAssignment::kNoObject)
+            continue;
+          const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+          const ConeRelation relation = cone.locate(p).relation;
+          if ((relation != ConeRelation::onSurface && relation != ConeRelation::behind) ||
+              !(object.signedDistance(p) < -plane_threshold))
+            continue;
+          ReflectionOutcome outcome = evidence.get().test(object.plane, p, object.landing_tolerance).outcome;
+          if (outcome == ReflectionOutcome::phantom && phantom_plane.signedDistance(p) < -plane_threshold)
+            outcome = ReflectionOutcome::noReturn;
+          assignment.echoes[k][i] = static_cast<std::int32_t>(j);
+          if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::transmitted)
+            label = behindLabel(object, outcome);
+          else
+            label = behindLabel(object, outcome) == Label::behindTransparent ||
+                            behindLabel(phantom_plane, outcome) == Label::behindTransparent ?
+                        Label::behindTransparent :
+                        Label::behindErrorS;
+          countBehind(object, outcome);
+        }
     }
   }
 }
@@ -421,55 +472,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
       }
     }
   }
-  // The points in the vision cones of the objects' phantom planes (phantom_planes.h) and in no
-  // object's own: behind the object's plane, each is labelled by its own evidence against it (a
-  // phantom, or seen through); without it, it is kept (behindTransparent) where the object's
-  // points or the phantom plane's said glass, but never taken for a phantom (behindErrorS).
-  for (std::size_t j = 0; j < objects.size(); ++j)
-  {
-    ReflectiveObject& object = objects[j];
-    for (const ReflectiveObject& phantom_plane : object.phantom_planes)
-    {
-      const VisionCone cone(phantom_plane, sensor_origin, plane_threshold, margin);
-      for (std::size_t k = 0; k < 2; ++k)
-        for (std::size_t i = 0; i < beams; ++i)
-        {
-          Label& label = labels.echoes[k][i];
-          if (label == Label::nanPoint || assignment.echoes[k][i] != ObjectAssignment::kNoObject)
-            continue;
-          const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-          const ConeRelation relation = cone.locate(p).relation;
-          if ((relation != ConeRelation::onSurface && relation != ConeRelation::behind) ||
-              !(object.signedDistance(p) < -plane_threshold))
-            continue;
-          ReflectionOutcome outcome = evidence.get().test(object.plane, p, object.landing_tolerance).outcome;
-          // Beyond the phantom plane, the image of a wall, no reflection in the object shows anything
-          // (it would show what lies behind that wall): landing there proves nothing.
-          if (outcome == ReflectionOutcome::phantom && phantom_plane.signedDistance(p) < -plane_threshold)
-            outcome = ReflectionOutcome::noReturn;
-          assignment.echoes[k][i] = static_cast<std::int32_t>(j);
-          ++object.behind_points;
-          switch (outcome)
-          {
-            case ReflectionOutcome::phantom:
-              label = Label::behindReflective;
-              ++object.phantom_points;
-              break;
-            case ReflectionOutcome::transmitted:
-              label = Label::behindTransparent;
-              ++object.transmitted_points;
-              break;
-            default:
-              label = behindLabel(object, outcome) == Label::behindTransparent ||
-                              behindLabel(phantom_plane, outcome) == Label::behindTransparent ?
-                          Label::behindTransparent :
-                          Label::behindErrorS;
-              ++(outcome == ReflectionOutcome::ambiguous ? object.ambiguous_points : object.undecided_points);
-              break;
-          }
-        }
-    }
-  }
+  labelPhantomPlaneCones(sweep, sensor_origin, plane_threshold, margin, evidence, objects, labels, assignment);
   for (std::size_t j = 0; j < objects.size(); ++j)
     objects[j].mean_surface_intensity = intensity_counts[j] > 0 ?
                                             static_cast<float>(intensity_sums[j] / intensity_counts[j]) :

@@ -78,6 +78,21 @@ std::vector<core::ReflectiveObject> afterStage(const core::Sweep& sweep, std::ve
   return objects;
 }
 
+struct Labelled
+{
+  core::SweepLabels labels;
+  core::ObjectAssignment assignment;
+};
+
+// The sweep labelled by the objects' cones with the default parameters, after the detect phase.
+Labelled labelWith(const core::Sweep& sweep, const test::Detected& detected, std::vector<core::ReflectiveObject>& objects)
+{
+  Labelled out{ detected.labels, core::ObjectAssignment() };
+  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
+      .apply(sweep, Eigen::Vector3f::Zero(), detected.evidence, objects, out.labels, out.assignment);
+  return out;
+}
+
 TEST(PhantomPlanes, TheDefaultsSwitchTheStageOn)
 {
   const core::PhantomPlaneConfig config = phantomPlaneConfig();
@@ -167,26 +182,21 @@ TEST(PhantomPlanes, TheConeLabellingLabelsThePhantomPlanesPointsAgainstTheirMirr
   mirror.phantom_planes.push_back(objectOfEchoes(sweep, kPhantomWall, 1.2f, 0.6f, 0.8f, ObjectType::glass));
   std::vector<core::ReflectiveObject> objects{ mirror };
   const test::Detected detected(sweep);
-  core::SweepLabels labels = detected.labels;
-  core::ObjectAssignment assignment;
-  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
-      .apply(sweep, Eigen::Vector3f::Zero(), detected.evidence, objects, labels, assignment);
+  const Labelled out = labelWith(sweep, detected, objects);
   std::size_t phantoms = 0, others = 0;
   for (const core::PointRef& ref : mirror.phantom_planes[0].surface_inliers)
   {
-    EXPECT_EQ(assignment.echoes[ref.echo][ref.beam], 0);
-    ++(labels.echoes[ref.echo][ref.beam] == Label::behindReflective ? phantoms : others);
+    EXPECT_EQ(out.assignment.echoes[ref.echo][ref.beam], 0);
+    ++(out.labels.echoes[ref.echo][ref.beam] == Label::behindReflective ? phantoms : others);
   }
   EXPECT_GE(phantoms, 9 * (phantoms + others) / 10);
   EXPECT_GE(objects[0].phantom_points, phantoms);
 
   // Without the phantom plane, the same points are outside every cone.
   std::vector<core::ReflectiveObject> alone{ test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror) };
-  core::SweepLabels plain = detected.labels;
-  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
-      .apply(sweep, Eigen::Vector3f::Zero(), detected.evidence, alone, plain, assignment);
+  const Labelled plain = labelWith(sweep, detected, alone);
   const core::PointRef first = mirror.phantom_planes[0].surface_inliers.front();
-  EXPECT_EQ(plain.echoes[first.echo][first.beam], Label::valid);
+  EXPECT_EQ(plain.labels.echoes[first.echo][first.beam], Label::valid);
 }
 
 TEST(PhantomPlanes, APointBeyondAPhantomPlaneIsNoPhantomOfItsObject)
@@ -203,17 +213,14 @@ TEST(PhantomPlanes, APointBeyondAPhantomPlaneIsNoPhantomOfItsObject)
   mirror.phantom_planes.push_back(nearer);
   std::vector<core::ReflectiveObject> objects{ mirror };
   const test::Detected detected(sweep);
-  core::SweepLabels labels = detected.labels;
-  core::ObjectAssignment assignment;
-  core::ConeLabelling(core::stageConfigs(core::Params()).cone_labelling)
-      .apply(sweep, Eigen::Vector3f::Zero(), detected.evidence, objects, labels, assignment);
+  const Labelled out = labelWith(sweep, detected, objects);
   std::size_t in_cone = 0, phantoms = 0;
   for (const core::PointRef& ref : on_it.surface_inliers)
   {
-    if (assignment.echoes[ref.echo][ref.beam] != 0)
+    if (out.assignment.echoes[ref.echo][ref.beam] != 0)
       continue;
     ++in_cone;
-    phantoms += labels.echoes[ref.echo][ref.beam] == Label::behindReflective ? 1 : 0;
+    phantoms += out.labels.echoes[ref.echo][ref.beam] == Label::behindReflective ? 1 : 0;
   }
   ASSERT_GE(in_cone, 50u);
   EXPECT_EQ(phantoms, 0u);  // (phantoms in the cone nearer than the phantom plane are still taken)

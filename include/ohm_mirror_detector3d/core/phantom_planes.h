@@ -4,11 +4,12 @@
 // plane, object extraction takes them for a reflective surface (a "phantom plane": the mirror
 // image, across the pane, of a wall the sensor sees). Its surface echoes lie behind the real
 // object's plane and, reflected across it, land on what the sensor saw in front: the per-point
-// evidence of reflection_evidence.h says "phantom" for them. Such an object is removed, and its
-// beams are handed to the object it is a phantom of: the cone labelling labels their points by
-// their own evidence against that object's plane (behindReflective, back-projected, where they
-// land on what the sensor saw; behindTransparent where it saw through), even where they lie
-// outside its vision cone (the pane's surface echoes cover only its near-perpendicular patch).
+// evidence of reflection_evidence.h says "phantom" for them. Such an object is removed and kept by
+// the object it is a phantom of (ReflectiveObject::phantom_planes): the cone labelling labels the
+// points in its vision cone by their own evidence against that object's plane (behindReflective,
+// back-projected, where they land on what the sensor saw; behindTransparent where it saw
+// through), even where they lie outside that object's own cone (a pane's surface echoes cover
+// only its near-perpendicular patch).
 #pragma once
 
 #include <cstddef>
@@ -46,9 +47,9 @@ public:
   explicit PhantomPlanes(const PhantomPlaneConfig& config);
   const char* name() const override { return "phantom_planes"; }
   // Tests every object's surface echoes (an even sample of at most kSampledEchoes) against every
-  // other object's plane (phantomShare); the pair with the largest share of phantoms at or above min_share is
-  // taken first. An object that received another's beams is kept (it is real), and an object
-  // that was taken receives none. The remaining objects are renumbered by their index.
+  // other object's plane (phantomShare); the pair with the largest share of phantoms at or above
+  // min_share is taken first. An object that took another in is kept (it is real), and an object
+  // that was taken in takes none. The remaining objects are renumbered by their index.
   void process(const Sweep& sweep, const SweepContext& context, const ReflectionEvidence& evidence,
                SweepLabels& labels, std::vector<ReflectiveObject>& objects) override;
 
@@ -56,8 +57,8 @@ public:
 
   // The share of `object`'s sampled surface echoes that lie at least min_depth behind `host`'s
   // plane as seen from `origin` and that, reflected across it, land on what the sensor saw
-  // (ReflectionOutcome::phantom). 0 when
-  // `object` has more than max_echo_ratio times `host`'s surface echoes.
+  // (ReflectionOutcome::phantom). 0 when `object` has more than max_echo_ratio times `host`'s
+  // surface echoes.
   float phantomShare(const Sweep& sweep, const Eigen::Vector3f& origin, const ReflectionEvidence& evidence,
                      const ReflectiveObject& object, const ReflectiveObject& host) const;
 
