@@ -348,6 +348,43 @@ TEST(ConeLabelling, BehindGlassAPointWithoutEvidenceFarFainterThanWhatIsSeenThro
   }
 }
 
+TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsAPointAsBrightAsWhatIsSeenThroughIsReal)
+{
+  // The pane of the test above, typed glass by its faint phantoms where the geometry said mirror:
+  // its points without evidence are reflections, as its other points said, except those at least
+  // as bright as the geometric mean of its phantoms (10) and what is seen through it (1000). With
+  // too little contrast between the two (50), brightness tells nothing and all stay reflections.
+  core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
+  sweep.has_intensity = true;
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
+    }
+  for (const float seen_through : { 1000.0f, 50.0f })
+  {
+    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass) };
+    objects[0].evidence.typed_by_dim_phantoms = true;
+    objects[0].evidence.geometric_type = ObjectType::mirror;
+    objects[0].evidence.phantom_brightness = 10.0f;
+    objects[0].evidence.transmitted_brightness = seen_through;
+    const Labelled out = label(sweep, objects);
+    std::size_t faint = 0, bright = 0;
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+      if (out.assignment.echoes[0][i] == 0)
+      {
+        const bool is_faint = sweep.echoes[0].points[i].y() > 0.0f;
+        const Label expected =
+            !is_faint && seen_through >= 100.0f ? Label::behindTransparent : Label::behindReflective;
+        EXPECT_EQ(out.labels.echoes[0][i], expected) << "seen through " << seen_through;
+        (is_faint ? faint : bright) += 1;
+      }
+    EXPECT_GT(faint, 50u);
+    EXPECT_GT(bright, 50u);
+  }
+}
+
 TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
 {
   // Nothing seen in front of the surface: no point behind can be told by itself.
