@@ -351,48 +351,71 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
   }
 }
 
-// The points in the vision cones of the objects' phantom planes (phantom_planes.h) and in no
-// object's own: behind the object's plane, each is labelled by its own evidence against it (a
-// phantom, or seen through); without it, it is kept (behindTransparent) where the object's
-// points or the phantom plane's said glass, but never taken for a phantom (behindErrorS). Beyond
-// the phantom plane, the image of a wall, no reflection in the object shows anything (it would
-// show what lies behind that wall): landing there proves nothing.
+// The points in the vision cones of the objects' phantom planes and of the surfaces seen through
+// them (phantom_planes.h), and in no object's own: behind the object's plane, each is labelled by
+// its own evidence against it (a phantom, or seen through). Without it, a point of a phantom
+// plane's cone is kept (behindTransparent) where the object's points or the phantom plane's said
+// glass, but never taken for a phantom (behindErrorS); beyond the phantom plane, the image of a
+// wall, no reflection in the object shows anything (it would show what lies behind that wall):
+// landing there proves nothing. A point on a surface seen through the object is kept
+// (behindTransparent: the object let the sensor see it); beyond that surface, a point without
+// evidence is none that the sensor could have seen directly (behindErrorS).
+void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ReflectiveObject& borrowed,
+                       bool seen_through, std::size_t j, float plane_threshold, LazyEvidence& evidence,
+                       std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment)
+{
+  ReflectiveObject& object = objects[j];
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < beams; ++i)
+    {
+      Label& label = labels.echoes[k][i];
+      if (label == Label::nanPoint || assignment.echoes[k][i] != ObjectAssignment::kNoObject)
+        continue;
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      const ConeRelation relation = cone.locate(p).relation;
+      if ((relation != ConeRelation::onSurface && relation != ConeRelation::behind) ||
+          !(object.signedDistance(p) < -plane_threshold))
+        continue;
+      const bool beyond = borrowed.signedDistance(p) < -plane_threshold;
+      ReflectionTestOptions options;
+      options.wide_normal = seen_through;
+      const ReflectionTest test = evidence.get().test(object.plane, p, object.landing_tolerance, options);
+      ReflectionOutcome outcome = test.outcome;
+      if (!seen_through && outcome == ReflectionOutcome::phantom && beyond)
+        outcome = ReflectionOutcome::noReturn;
+      assignment.echoes[k][i] = static_cast<std::int32_t>(j);
+      if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::transmitted)
+        label = behindLabel(object, outcome);
+      else if (seen_through && outcome == ReflectionOutcome::ambiguous)
+        label = reflectedByIntensity(object, p, sweep.echoes[k].intensities[i], test, evidence.get().sensorOrigin()) ?
+                    Label::behindReflective :
+                    Label::behindTransparent;
+      else if (seen_through)
+        label = beyond ? Label::behindErrorS : Label::behindTransparent;
+      else
+        label = behindLabel(object, outcome) == Label::behindTransparent ||
+                        behindLabel(borrowed, outcome) == Label::behindTransparent ?
+                    Label::behindTransparent :
+                    Label::behindErrorS;
+      countBehind(object, outcome);
+    }
+}
+
 void labelPhantomPlaneCones(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, float plane_threshold,
                             float margin, LazyEvidence& evidence, std::vector<ReflectiveObject>& objects,
                             SweepLabels& labels, ObjectAssignment& assignment)
 {
-  const std::size_t beams = sweep.beamCount();
   for (std::size_t j = 0; j < objects.size(); ++j)
   {
-    ReflectiveObject& object = objects[j];
-    for (const ReflectiveObject& phantom_plane : object.phantom_planes)
-    {
-      const VisionCone cone(phantom_plane, sensor_origin, plane_threshold, margin);
-      for (std::size_t k = 0; k < 2; ++k)
-        for (std::size_t i = 0; i < beams; ++i)
-        {
-          Label& label = labels.echoes[k][i];
-          if (label == Label::nanPoint || assignment.echoes[k][i] != ObjectAssignment::kNoObject)
-            continue;
-          const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-          const ConeRelation relation = cone.locate(p).relation;
-          if ((relation != ConeRelation::onSurface && relation != ConeRelation::behind) ||
-              !(object.signedDistance(p) < -plane_threshold))
-            continue;
-          ReflectionOutcome outcome = evidence.get().test(object.plane, p, object.landing_tolerance).outcome;
-          if (outcome == ReflectionOutcome::phantom && phantom_plane.signedDistance(p) < -plane_threshold)
-            outcome = ReflectionOutcome::noReturn;
-          assignment.echoes[k][i] = static_cast<std::int32_t>(j);
-          if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::transmitted)
-            label = behindLabel(object, outcome);
-          else
-            label = behindLabel(object, outcome) == Label::behindTransparent ||
-                            behindLabel(phantom_plane, outcome) == Label::behindTransparent ?
-                        Label::behindTransparent :
-                        Label::behindErrorS;
-          countBehind(object, outcome);
-        }
-    }
+    for (const bool seen_through : { false, true })
+      for (const ReflectiveObject& borrowed :
+           seen_through ? objects[j].seen_through_surfaces : objects[j].phantom_planes)
+      {
+        const VisionCone cone(borrowed, sensor_origin, plane_threshold, margin);
+        labelBorrowedCone(sweep, cone, borrowed, seen_through, j, plane_threshold, evidence, objects, labels,
+                          assignment);
+      }
   }
 }
 }  // namespace

@@ -11,32 +11,52 @@ PhantomPlanes::PhantomPlanes(const PhantomPlaneConfig& config) : config_(config)
 {
 }
 
-float PhantomPlanes::phantomShare(const Sweep& sweep, const Eigen::Vector3f& origin, const ReflectionEvidence& evidence,
-                                  const ReflectiveObject& object, const ReflectiveObject& host) const
+PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vector3f& origin,
+                                            const ReflectionEvidence& evidence, const ReflectiveObject& object,
+                                            const ReflectiveObject& host) const
 {
+  Shares result;
   const std::vector<PointRef>& echoes = object.surface_inliers;
-  if (echoes.empty() || static_cast<float>(echoes.size()) >
-                            config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size()))
-    return 0.0f;
   const float origin_side = host.signedDistance(origin);
-  if (!(origin_side > 0.0f))
-    return 0.0f;
+  if (echoes.empty() || !(origin_side > 0.0f))
+    return result;
+  const bool may_be_phantoms = static_cast<float>(echoes.size()) <=
+                               config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size());
   const std::size_t stride = echoes.size() > kSampledEchoes ? echoes.size() / kSampledEchoes : 1;
-  std::size_t sampled = 0, phantoms = 0;
-  for (std::size_t i = 0; i < echoes.size(); i += stride)
+  const std::size_t sampled = (echoes.size() + stride - 1) / stride;
+  // Either share needs this many; once neither can reach it, the rest is not tested.
+  const float needed = config_.min_share * static_cast<float>(sampled);
+  std::size_t phantoms = 0, seen_through = 0, left = sampled;
+  for (std::size_t i = 0; i < echoes.size(); i += stride, --left)
   {
-    ++sampled;
+    if (static_cast<float>(std::max(phantoms, seen_through) + left) < needed)
+      break;
     const PointRef& ref = echoes[i];
     if (ref.echo > 1)
       continue;  // an input point without a grid cell: not in the direction index
     const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
-    const float point_side = host.signedDistance(p);
-    if (!(point_side < -config_.min_depth))
+    if (!(host.signedDistance(p) < -config_.min_depth))
       continue;
     if (evidence.test(host.plane, p, host.landing_tolerance).outcome == ReflectionOutcome::phantom)
-      ++phantoms;
+    {
+      phantoms += may_be_phantoms ? 1 : 0;
+      continue;
+    }
+    // A real surface echo behind the host: is the beam's far echo the host's reflection (and not
+    // the object's own)? Nothing is seen through a mirror.
+    if (host.type == ObjectType::mirror)
+      continue;
+    const Eigen::Vector3f& far = sweep.echoes[1 - ref.echo].points[ref.beam];
+    if (!far.allFinite() || !(object.signedDistance(far) < -config_.min_depth) ||
+        !(host.signedDistance(far) < -config_.min_depth))
+      continue;
+    if (evidence.test(host.plane, far, host.landing_tolerance).outcome == ReflectionOutcome::phantom &&
+        evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom)
+      ++seen_through;
   }
-  return static_cast<float>(phantoms) / static_cast<float>(sampled);
+  result.phantom = static_cast<float>(phantoms) / static_cast<float>(sampled);
+  result.seen_through = static_cast<float>(seen_through) / static_cast<float>(sampled);
+  return result;
 }
 
 void PhantomPlanes::process(const Sweep& sweep, const SweepContext& context, const ReflectionEvidence& evidence,
@@ -46,16 +66,18 @@ void PhantomPlanes::process(const Sweep& sweep, const SweepContext& context, con
   if (count < 2)
     return;
   const Eigen::Vector3f origin = context.sensorOrigin();
-  // (share, phantom object, host) of every pair at or above the share.
-  std::vector<std::tuple<float, std::size_t, std::size_t>> pairs;
+  // (share, object, host, seen through) of every pair at or above the share.
+  std::vector<std::tuple<float, std::size_t, std::size_t, bool>> pairs;
   for (std::size_t o = 0; o < count; ++o)
     for (std::size_t h = 0; h < count; ++h)
     {
       if (h == o)
         continue;
-      const float share = phantomShare(sweep, origin, evidence, objects[o], objects[h]);
-      if (share >= config_.min_share)
-        pairs.emplace_back(share, o, h);
+      const Shares pair = shares(sweep, origin, evidence, objects[o], objects[h]);
+      if (pair.phantom >= config_.min_share && pair.phantom >= pair.seen_through)
+        pairs.emplace_back(pair.phantom, o, h, false);
+      else if (pair.seen_through >= config_.min_share)
+        pairs.emplace_back(pair.seen_through, o, h, true);
     }
   if (pairs.empty())
     return;
@@ -67,7 +89,7 @@ void PhantomPlanes::process(const Sweep& sweep, const SweepContext& context, con
   });
   constexpr std::size_t kNone = static_cast<std::size_t>(-1);
   std::vector<std::size_t> host_of(count, kNone);
-  std::vector<bool> is_host(count, false);
+  std::vector<bool> is_host(count, false), seen_through(count, false);
   for (const auto& pair : pairs)
   {
     const std::size_t o = std::get<1>(pair), h = std::get<2>(pair);
@@ -75,10 +97,12 @@ void PhantomPlanes::process(const Sweep& sweep, const SweepContext& context, con
       continue;
     host_of[o] = h;
     is_host[h] = true;
+    seen_through[o] = std::get<3>(pair);
   }
   for (std::size_t o = 0; o < count; ++o)
     if (host_of[o] != kNone)
-      objects[host_of[o]].phantom_planes.push_back(std::move(objects[o]));
+      (seen_through[o] ? objects[host_of[o]].seen_through_surfaces : objects[host_of[o]].phantom_planes)
+          .push_back(std::move(objects[o]));
   std::size_t kept = 0;
   for (std::size_t o = 0; o < count; ++o)
     if (host_of[o] == kNone)

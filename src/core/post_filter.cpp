@@ -33,7 +33,8 @@ void PostFilter::process(const Sweep& /*sweep*/, const SweepContext& context, co
     const std::size_t m = indexOf(merged_ids_[k]);
     if (m == map_objects.size())
       continue;  // not merged (a non-finite plane): it cannot label either
-    // This sweep's phantom planes of the object (phantom_planes.h, in the sweep's frame) go with it.
+    // This sweep's phantom planes of the object and the surfaces seen through it (phantom_planes.h, in
+    // the sweep's frame) go with it.
     if (placed[m])
     {
       ReflectiveObject& target = labelling_[labelling_of[m]];
@@ -41,6 +42,8 @@ void PostFilter::process(const Sweep& /*sweep*/, const SweepContext& context, co
                                     objects[k].surface_inliers.end());
       std::move(objects[k].phantom_planes.begin(), objects[k].phantom_planes.end(),
                 std::back_inserter(target.phantom_planes));
+      std::move(objects[k].seen_through_surfaces.begin(), objects[k].seen_through_surfaces.end(),
+                std::back_inserter(target.seen_through_surfaces));
       continue;
     }
     placed[m] = true;
@@ -50,6 +53,7 @@ void PostFilter::process(const Sweep& /*sweep*/, const SweepContext& context, co
     replaced.evidence = objects[k].evidence;
     replaced.surface_inliers = std::move(objects[k].surface_inliers);
     replaced.phantom_planes = std::move(objects[k].phantom_planes);
+    replaced.seen_through_surfaces = std::move(objects[k].seen_through_surfaces);
   }
   // The map objects this sweep did not see.
   for (std::size_t m = 0; m < map_objects.size(); ++m)

@@ -271,6 +271,20 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["transmitted_points"] = object.transmitted_points;
   d["ambiguous_points"] = object.ambiguous_points;
   d["undecided_points"] = object.undecided_points;
+  // The objects it took in (phantom_planes.h): how many, and their centres.
+  py::list taken;
+  for (const auto* kind : { &object.phantom_planes, &object.seen_through_surfaces })
+    for (const core::ReflectiveObject& other : *kind)
+    {
+      py::dict t;
+      t["kind"] = kind == &object.phantom_planes ? "phantom_plane" : "seen_through";
+      t["centre"] = py::make_tuple(other.centre.x(), other.centre.y(), other.centre.z());
+      t["width"] = static_cast<double>(other.width);
+      t["height"] = static_cast<double>(other.height);
+      t["surface_echoes"] = other.surface_inliers.size();
+      taken.append(t);
+    }
+  d["taken_in"] = taken;
   const core::TypeEvidence& e = object.evidence;
   d["mirrored_points"] = e.mirrored_points;
   d["tested_points"] = e.tested_points;

@@ -116,8 +116,8 @@ TEST(PhantomPlanes, AnObjectMadeOfAMirrorsPhantomsIsHandedToTheMirror)
   const test::Detected detected(sweep);
   const Eigen::Vector3f origin = Eigen::Vector3f::Zero();
   const core::PhantomPlanes stage(phantomPlaneConfig());
-  EXPECT_GE(stage.phantomShare(sweep, origin, detected.evidence, phantom, mirror), 0.9f);
-  EXPECT_LE(stage.phantomShare(sweep, origin, detected.evidence, mirror, phantom), 0.0f);
+  EXPECT_GE(stage.shares(sweep, origin, detected.evidence, phantom, mirror).phantom, 0.9f);
+  EXPECT_LE(stage.shares(sweep, origin, detected.evidence, mirror, phantom).phantom, 0.0f);
 
   // In either order: the phantom plane goes, the mirror stays, renumbered, and keeps it.
   for (const bool mirror_first : { true, false })
@@ -224,6 +224,70 @@ TEST(PhantomPlanes, APointBeyondAPhantomPlaneIsNoPhantomOfItsObject)
   }
   ASSERT_GE(in_cone, 50u);
   EXPECT_EQ(phantoms, 0u);  // (phantoms in the cone nearer than the phantom plane are still taken)
+}
+
+// The wall seen through a reflecting pane: a pane at x = kMirror (its near-perpendicular patch
+// gives surface echoes) reflects the back wall and lets the sensor see a wall at x = kSeenWall. Up
+// and to the side of the patch, where the transmitted path is the shorter, a beam's near echo lies
+// on that wall and its far echo is the back wall's phantom at x = kPhantomWall.
+constexpr float kSeenWall = 3.0f;
+
+core::Sweep seenThroughSweep()
+{
+  core::Sweep sweep = sweepOf(mirrorRoom());
+  for (std::size_t b = 0; b < sweep.beamCount(); ++b)
+  {
+    const Eigen::Vector3f phantom = sweep.echoes[0].points[b];
+    if (!phantom.allFinite() || std::fabs(phantom.x() - kPhantomWall) > 0.02f || phantom.y() < 0.6f ||
+        phantom.z() < 0.1f)
+      continue;
+    sweep.echoes[0].points[b] = phantom * (kSeenWall / phantom.x());
+    sweep.echoes[1].points[b] = phantom;
+  }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return sweep;
+}
+
+TEST(PhantomPlanes, AWallSeenThroughAPaneIsHandedToThePaneAndItsFarEchoesAreThePanesPhantoms)
+{
+  const core::Sweep sweep = seenThroughSweep();
+  const core::ReflectiveObject pane = objectOfEchoes(sweep, kMirror, 0.0f, 0.0f, 0.1f, ObjectType::glass);
+  // The near echoes on the wall behind: more than max_echo_ratio times the pane's (no phantom plane
+  // could be that much larger than its pane's patch; a surface seen through it can).
+  const core::ReflectiveObject wall = objectOfEchoes(sweep, kSeenWall, 1.0f, 0.5f, 0.6f, ObjectType::glass);
+  ASSERT_GE(pane.surface_inliers.size(), 20u);
+  ASSERT_GE(wall.surface_inliers.size(), 4 * pane.surface_inliers.size());
+
+  const test::Detected detected(sweep);
+  const core::PhantomPlanes stage(phantomPlaneConfig());
+  const core::PhantomPlanes::Shares shares = stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, wall, pane);
+  EXPECT_GE(shares.seen_through, 0.9f);
+  EXPECT_LE(shares.phantom, 0.0f);
+  // The pane is seen through nothing; nothing is seen through a mirror.
+  EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, pane, wall).seen_through, 0.0f);
+  core::ReflectiveObject mirror = pane;
+  mirror.type = ObjectType::mirror;
+  EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, wall, mirror).seen_through, 0.0f);
+
+  std::vector<core::ReflectiveObject> objects = afterStage(sweep, { wall, pane });
+  ASSERT_EQ(objects.size(), 1u);
+  EXPECT_TRUE(objects[0].phantom_planes.empty());
+  ASSERT_EQ(objects[0].seen_through_surfaces.size(), 1u);
+  EXPECT_NEAR(objects[0].seen_through_surfaces[0].centre.x(), kSeenWall, 1e-4f);
+
+  // Labelled against the pane: the wall's points are seen through it (kept), the beams' far echoes
+  // are its phantoms (back-projected across it).
+  const Labelled out = labelWith(sweep, detected, objects);
+  std::size_t kept = 0, reflections = 0, others = 0;
+  for (const core::PointRef& ref : wall.surface_inliers)
+  {
+    EXPECT_EQ(out.assignment.echoes[0][ref.beam], 0);
+    EXPECT_EQ(out.assignment.echoes[1][ref.beam], 0);
+    ++(out.labels.echoes[0][ref.beam] == Label::behindTransparent ? kept : others);
+    ++(out.labels.echoes[1][ref.beam] == Label::behindReflective ? reflections : others);
+  }
+  EXPECT_EQ(kept, wall.surface_inliers.size());
+  EXPECT_GE(reflections, 9 * wall.surface_inliers.size() / 10);
 }
 
 }  // namespace

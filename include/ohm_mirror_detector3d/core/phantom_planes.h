@@ -10,6 +10,14 @@
 // back-projected, where they land on what the sensor saw; behindTransparent where it saw
 // through), even where they lie outside that object's own cone (a pane's surface echoes cover
 // only its near-perpendicular patch).
+//
+// Where the transmitted part's path is the shorter, the near echoes lie on what the pane shows
+// behind it (a wall seen through a glass wall) and the far echoes are the pane's reflections.
+// Those near echoes are real (no phantoms of the pane) and their beams' far echoes are the
+// pane's phantoms, not the wall's: such an object, a surface seen through the other, is removed
+// too and kept in that object's seen_through_surfaces. Its points are labelled against the
+// pane; those beyond it that prove nothing are no real points either (nothing is seen behind a
+// wall): behindErrorS.
 #pragma once
 
 #include <cstddef>
@@ -47,20 +55,30 @@ public:
   explicit PhantomPlanes(const PhantomPlaneConfig& config);
   const char* name() const override { return "phantom_planes"; }
   // Tests every object's surface echoes (an even sample of at most kSampledEchoes) against every
-  // other object's plane (phantomShare); the pair with the largest share of phantoms at or above
-  // min_share is taken first. An object that took another in is kept (it is real), and an object
-  // that was taken in takes none. The remaining objects are renumbered by their index.
+  // other object's plane (shares); the pair with the largest share at or above min_share is taken
+  // first, into the other's phantom_planes or seen_through_surfaces. An object that took another
+  // in is kept (it is real), and an object that was taken in takes none. The remaining objects are
+  // renumbered by their index.
   void process(const Sweep& sweep, const SweepContext& context, const ReflectionEvidence& evidence,
                SweepLabels& labels, std::vector<ReflectiveObject>& objects) override;
 
   static constexpr std::size_t kSampledEchoes = 64;
 
-  // The share of `object`'s sampled surface echoes that lie at least min_depth behind `host`'s
-  // plane as seen from `origin` and that, reflected across it, land on what the sensor saw
-  // (ReflectionOutcome::phantom). 0 when `object` has more than max_echo_ratio times `host`'s
-  // surface echoes.
-  float phantomShare(const Sweep& sweep, const Eigen::Vector3f& origin, const ReflectionEvidence& evidence,
-                     const ReflectiveObject& object, const ReflectiveObject& host) const;
+  // Of `object`'s sampled surface echoes that lie at least min_depth behind `host`'s plane as seen
+  // from `origin`:
+  struct Shares
+  {
+    // the share that, reflected across it, land on what the sensor saw (ReflectionOutcome::phantom);
+    // 0 when `object` has more than max_echo_ratio times `host`'s surface echoes;
+    float phantom = 0.0f;
+    // the share that do not, and whose beam's far echo (min_depth behind both planes) is a phantom
+    // of `host` and not of `object`: `object` is a surface seen through `host` (0 when `host` is
+    // typed mirror).
+    float seen_through = 0.0f;
+  };
+  // Either share stops being counted once neither can reach min_share.
+  Shares shares(const Sweep& sweep, const Eigen::Vector3f& origin, const ReflectionEvidence& evidence,
+                const ReflectiveObject& object, const ReflectiveObject& host) const;
 
 private:
   PhantomPlaneConfig config_;

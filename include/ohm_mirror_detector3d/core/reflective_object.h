@@ -126,6 +126,10 @@ struct ReflectiveObject
   // labelling labels the points in their vision cones (and in no object's own) by their own
   // evidence against this object's plane.
   std::vector<ReflectiveObject> phantom_planes;
+  // Objects that were surfaces seen through this one (phantom_planes.h): a wall behind a pane
+  // whose near echoes formed a plane, the pane's reflections their far echoes. The cone labelling
+  // labels the points in their vision cones (and in no object's own) against this object's plane.
+  std::vector<ReflectiveObject> seen_through_surfaces;
 
   // Filled by cone labelling: points of both echoes on the surface and behind it, and what the
   // points behind said each (ReflectionOutcome): phantoms, transmitted, landing on a surface
