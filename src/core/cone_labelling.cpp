@@ -2,8 +2,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
@@ -360,8 +362,28 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
 // landing there proves nothing. A point on a surface seen through the object is kept
 // (behindTransparent: the object let the sensor see it); beyond that surface, a point without
 // evidence is none that the sensor could have seen directly (behindErrorS).
-void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ReflectiveObject& borrowed,
-                       bool seen_through, std::size_t j, float plane_threshold, LazyEvidence& evidence,
+// The boxes of blocks of kBlockBeams beams of each echo (their points that are not nanPoint), for
+// culling the blocks a cone cannot reach.
+struct EchoBlockBoxes
+{
+  std::array<std::vector<BlockBox>, 2> echoes;
+
+  EchoBlockBoxes(const Sweep& sweep, const SweepLabels& labels)
+  {
+    const std::size_t beams = sweep.beamCount();
+    for (std::size_t k = 0; k < 2; ++k)
+    {
+      const Label* echo_labels = labels.echoes[k].data();
+      for (std::size_t from = 0; from < beams; from += kBlockBeams)
+        echoes[k].push_back(blockBox(sweep.echoes[k].points.data(), from, std::min(beams, from + kBlockBeams),
+                                     [echo_labels](std::size_t i) { return echo_labels[i] != Label::nanPoint; }));
+    }
+  }
+};
+
+void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBounds& bounds,
+                       const EchoBlockBoxes& boxes, const ReflectiveObject& borrowed, bool seen_through,
+                       std::size_t j, float plane_threshold, LazyEvidence& evidence,
                        std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment)
 {
   ReflectiveObject& object = objects[j];
@@ -369,6 +391,17 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const Reflect
   for (std::size_t k = 0; k < 2; ++k)
     for (std::size_t i = 0; i < beams; ++i)
     {
+      if (i % kBlockBeams == 0)
+      {
+        // A block the cone cannot reach is skipped whole (the same labels, fewer cone tests).
+        const BlockBox& box = boxes.echoes[k][i / kBlockBeams];
+        if (!box.any_non_finite &&
+            (box.box.isEmpty() || !bounds.mayAffect(box.box.min().cast<double>(), box.box.max().cast<double>())))
+        {
+          i += kBlockBeams - 1;
+          continue;
+        }
+      }
       Label& label = labels.echoes[k][i];
       if (label == Label::nanPoint || assignment.echoes[k][i] != ObjectAssignment::kNoObject)
         continue;
@@ -406,15 +439,19 @@ void labelPhantomPlaneCones(const Sweep& sweep, const Eigen::Vector3f& sensor_or
                             float margin, LazyEvidence& evidence, std::vector<ReflectiveObject>& objects,
                             SweepLabels& labels, ObjectAssignment& assignment)
 {
+  std::unique_ptr<EchoBlockBoxes> boxes;
   for (std::size_t j = 0; j < objects.size(); ++j)
   {
     for (const bool seen_through : { false, true })
       for (const ReflectiveObject& borrowed :
            seen_through ? objects[j].seen_through_surfaces : objects[j].phantom_planes)
       {
+        if (!boxes)
+          boxes = std::make_unique<EchoBlockBoxes>(sweep, labels);
         const VisionCone cone(borrowed, sensor_origin, plane_threshold, margin);
-        labelBorrowedCone(sweep, cone, borrowed, seen_through, j, plane_threshold, evidence, objects, labels,
-                          assignment);
+        const ConeBounds bounds(borrowed, sensor_origin, plane_threshold, margin);
+        labelBorrowedCone(sweep, cone, bounds, *boxes, borrowed, seen_through, j, plane_threshold, evidence, objects,
+                          labels, assignment);
       }
   }
 }

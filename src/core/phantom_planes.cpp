@@ -22,37 +22,62 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
     return result;
   const bool may_be_phantoms = static_cast<float>(echoes.size()) <=
                                config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size());
+  // Nothing is seen through a mirror.
+  const bool may_be_seen_through = host.type != ObjectType::mirror;
+  if (!may_be_phantoms && !may_be_seen_through)
+    return result;
   const std::size_t stride = echoes.size() > kSampledEchoes ? echoes.size() / kSampledEchoes : 1;
   const std::size_t sampled = (echoes.size() + stride - 1) / stride;
-  // Either share needs this many; once neither can reach it, the rest is not tested.
+  // Either share needs this many of the sample. The sampled echoes that could count at all (far
+  // enough behind the host's plane) are found first, with no test of the evidence; once neither
+  // share can reach it, the rest is not tested (the shares are then below min_share, not exact).
   const float needed = config_.min_share * static_cast<float>(sampled);
-  std::size_t phantoms = 0, seen_through = 0, left = sampled;
-  for (std::size_t i = 0; i < echoes.size(); i += stride, --left)
+  std::size_t behind = 0;
+  for (std::size_t i = 0; i < echoes.size(); i += stride)
   {
-    if (static_cast<float>(std::max(phantoms, seen_through) + left) < needed)
-      break;
     const PointRef& ref = echoes[i];
-    if (ref.echo > 1)
-      continue;  // an input point without a grid cell: not in the direction index
-    const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
-    if (!(host.signedDistance(p) < -config_.min_depth))
-      continue;
-    if (evidence.test(host.plane, p, host.landing_tolerance).outcome == ReflectionOutcome::phantom)
+    behind += ref.echo <= 1 && host.signedDistance(sweep.echoes[ref.echo].points[ref.beam]) < -config_.min_depth;
+  }
+  if (static_cast<float>(behind) < needed)
+    return result;
+  // The sample is visited in kPasses interleaved passes, each spread over the whole object: after
+  // the first, a pair whose share there is under half of min_share is given up (most pairs tested
+  // are no pair at all: random scene 29 on the 32-ring lidar, 30 objects, 220 pairs behind one
+  // another, 18000 tests in 12 ms before).
+  std::size_t phantoms = 0, seen_through = 0, left = behind, tested = 0;
+  for (std::size_t pass = 0; pass < kPasses; ++pass)
+  {
+    if (pass == 1 && static_cast<float>(std::max(phantoms, seen_through)) < 0.5f * config_.min_share * tested)
+      break;
+    for (std::size_t i = pass * stride; i < echoes.size(); i += kPasses * stride)
     {
-      phantoms += may_be_phantoms ? 1 : 0;
-      continue;
+      const PointRef& ref = echoes[i];
+      if (ref.echo > 1)
+        continue;  // an input point without a grid cell: not in the direction index
+      const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
+      if (!(host.signedDistance(p) < -config_.min_depth))
+        continue;
+      if (static_cast<float>(std::max(phantoms, seen_through) + left) < needed)
+        break;
+      --left;
+      ++tested;
+      // A real surface echo behind the host whose beam's far echo (behind both planes) is the
+      // host's reflection and not the object's own was seen through the host. The tests are asked
+      // in the order that spares the most: the far echo's against the host fails most often.
+      const Eigen::Vector3f& far = sweep.echoes[1 - ref.echo].points[ref.beam];
+      const bool far_behind = may_be_seen_through && far.allFinite() &&
+                              object.signedDistance(far) < -config_.min_depth &&
+                              host.signedDistance(far) < -config_.min_depth;
+      const bool far_is_hosts_phantom =
+          far_behind && evidence.test(host.plane, far, host.landing_tolerance).outcome == ReflectionOutcome::phantom;
+      if (!may_be_phantoms && !far_is_hosts_phantom)
+        continue;
+      if (evidence.test(host.plane, p, host.landing_tolerance).outcome == ReflectionOutcome::phantom)
+        phantoms += may_be_phantoms ? 1 : 0;
+      else if (far_is_hosts_phantom &&
+               evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom)
+        ++seen_through;
     }
-    // A real surface echo behind the host: is the beam's far echo the host's reflection (and not
-    // the object's own)? Nothing is seen through a mirror.
-    if (host.type == ObjectType::mirror)
-      continue;
-    const Eigen::Vector3f& far = sweep.echoes[1 - ref.echo].points[ref.beam];
-    if (!far.allFinite() || !(object.signedDistance(far) < -config_.min_depth) ||
-        !(host.signedDistance(far) < -config_.min_depth))
-      continue;
-    if (evidence.test(host.plane, far, host.landing_tolerance).outcome == ReflectionOutcome::phantom &&
-        evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom)
-      ++seen_through;
   }
   result.phantom = static_cast<float>(phantoms) / static_cast<float>(sampled);
   result.seen_through = static_cast<float>(seen_through) / static_cast<float>(sampled);

@@ -63,6 +63,7 @@ public:
                SweepLabels& labels, std::vector<ReflectiveObject>& objects) override;
 
   static constexpr std::size_t kSampledEchoes = 64;
+  static constexpr std::size_t kPasses = 4;
 
   // Of `object`'s sampled surface echoes that lie at least min_depth behind `host`'s plane as seen
   // from `origin`:
@@ -76,7 +77,9 @@ public:
     // typed mirror).
     float seen_through = 0.0f;
   };
-  // Either share stops being counted once neither can reach min_share.
+  // Either share stops being counted once neither can reach min_share, or when the first of
+  // kPasses interleaved passes over the sample finds under half of min_share (then both are below
+  // min_share, not exact).
   Shares shares(const Sweep& sweep, const Eigen::Vector3f& origin, const ReflectionEvidence& evidence,
                 const ReflectiveObject& object, const ReflectiveObject& host) const;
 
