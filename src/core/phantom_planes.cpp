@@ -22,8 +22,10 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
     return result;
   const bool may_be_phantoms = static_cast<float>(echoes.size()) <=
                                config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size());
-  // Nothing is seen through a mirror.
-  const bool may_be_seen_through = host.type != ObjectType::mirror;
+  // Nothing is seen through a mirror; and an object typed mirror showed reflections of its own
+  // (a metal panel behind a glass wall, whose far echoes happened to land across the glass as well:
+  // the 128-ring lidar's random_27) rather than being a wall seen through another.
+  const bool may_be_seen_through = host.type != ObjectType::mirror && object.type != ObjectType::mirror;
   if (!may_be_phantoms && !may_be_seen_through)
     return result;
   const std::size_t stride = echoes.size() > kSampledEchoes ? echoes.size() / kSampledEchoes : 1;

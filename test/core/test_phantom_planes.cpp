@@ -268,6 +268,10 @@ TEST(PhantomPlanes, AWallSeenThroughAPaneIsHandedToThePaneAndItsFarEchoesAreTheP
   core::ReflectiveObject mirror = pane;
   mirror.type = ObjectType::mirror;
   EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, wall, mirror).seen_through, 0.0f);
+  // An object typed mirror showed reflections of its own: it is no wall seen through another.
+  core::ReflectiveObject shiny = wall;
+  shiny.type = ObjectType::mirror;
+  EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, shiny, pane).seen_through, 0.0f);
 
   std::vector<core::ReflectiveObject> objects = afterStage(sweep, { wall, pane });
   ASSERT_EQ(objects.size(), 1u);

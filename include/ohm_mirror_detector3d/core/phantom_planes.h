@@ -73,7 +73,7 @@ public:
     // 0 when `object` has more than max_echo_ratio times `host`'s surface echoes;
     float phantom = 0.0f;
     // the share that do not, and whose beam's far echo (min_depth behind both planes) is a phantom
-    // of `host` and not of `object`: `object` is a surface seen through `host` (0 when `host` is
+    // of `host` and not of `object`: `object` is a surface seen through `host` (0 when either is
     // typed mirror).
     float seen_through = 0.0f;
   };
