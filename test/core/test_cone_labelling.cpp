@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <random>
@@ -313,11 +314,14 @@ TEST(ConeLabelling, APathThatMayGoOnThroughAnotherMirrorProvesNothing)
   EXPECT_EQ(counts[Label::behindTransparent], 0u);
 }
 
-TEST(ConeLabelling, BehindGlassAPointWithoutEvidenceFarFainterThanWhatIsSeenThroughIsAReflection)
+// Nothing seen in front of a pane at x = 2: no point behind it can be told by its geometry. Its
+// sampled phantoms came back with a brightness (intensity x r^2) of 10, what was seen through it
+// with `seen_through`; behind it, where y > 0, points of brightness 5, elsewhere of 900. Labels
+// the points behind the pane (`glass`, its evidence set so) and checks each against
+// expected(is_faint).
+void expectLabelledByBrightness(core::ReflectiveObject glass, float seen_through,
+                                const std::function<Label(bool is_faint)>& expected)
 {
-  // Nothing seen in front of the pane: no point behind it can be told by its geometry. Its
-  // sampled phantoms came back with a brightness (intensity x r^2) of 10, what was seen through
-  // it with 1000; behind it, where y > 0, points of brightness 5, elsewhere of 900.
   core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
   sweep.has_intensity = true;
   for (std::size_t k = 0; k < 2; ++k)
@@ -326,63 +330,44 @@ TEST(ConeLabelling, BehindGlassAPointWithoutEvidenceFarFainterThanWhatIsSeenThro
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
       sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
     }
+  glass.evidence.phantom_brightness = 10.0f;
+  glass.evidence.transmitted_brightness = seen_through;
+  std::vector<core::ReflectiveObject> objects{ glass };
+  const Labelled out = label(sweep, objects);
+  std::size_t faint = 0, bright = 0;
+  for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    if (out.assignment.echoes[0][i] == 0)
+    {
+      const bool is_faint = sweep.echoes[0].points[i].y() > 0.0f;
+      EXPECT_EQ(out.labels.echoes[0][i], expected(is_faint)) << "seen through " << seen_through;
+      (is_faint ? faint : bright) += 1;
+    }
+  EXPECT_GT(faint, 50u);
+  EXPECT_GT(bright, 50u);
+}
+
+TEST(ConeLabelling, BehindGlassAPointWithoutEvidenceFarFainterThanWhatIsSeenThroughIsAReflection)
+{
+  // Only ten times fainter than seen through or more is the contrast enough to tell.
   for (const float seen_through : { 1000.0f, 50.0f })
-  {
-    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass) };
-    objects[0].evidence.phantom_brightness = 10.0f;
-    objects[0].evidence.transmitted_brightness = seen_through;
-    const Labelled out = label(sweep, objects);
-    std::size_t faint = 0, bright = 0;
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-      if (out.assignment.echoes[0][i] == 0)
-      {
-        const bool is_faint = sweep.echoes[0].points[i].y() > 0.0f;
-        // Only ten times fainter than seen through or more is the contrast enough to tell.
-        const Label expected =
-            is_faint && seen_through >= 100.0f ? Label::behindReflective : Label::behindTransparent;
-        EXPECT_EQ(out.labels.echoes[0][i], expected) << "seen through " << seen_through;
-        (is_faint ? faint : bright) += 1;
-      }
-    EXPECT_GT(faint, 50u);
-    EXPECT_GT(bright, 50u);
-  }
+    expectLabelledByBrightness(wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass), seen_through, [&](bool is_faint) {
+      return is_faint && seen_through >= 100.0f ? Label::behindReflective : Label::behindTransparent;
+    });
 }
 
 TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsAPointAsBrightAsWhatIsSeenThroughIsReal)
 {
-  // The pane of the test above, typed glass by its faint phantoms where the geometry said mirror:
-  // its points without evidence are reflections, as its other points said, except those at least
-  // as bright as the geometric mean of its phantoms (10) and what is seen through it (1000). With
-  // too little contrast between the two (50), brightness tells nothing and all stay reflections.
-  core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
-  sweep.has_intensity = true;
-  for (std::size_t k = 0; k < 2; ++k)
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-    {
-      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-      sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
-    }
+  // The pane typed glass by its faint phantoms where the geometry said mirror: its points without
+  // evidence are reflections, as its other points said, except those at least as bright as the
+  // geometric mean of its phantoms and what is seen through it. With too little contrast between
+  // the two, brightness tells nothing and all stay reflections.
+  core::ReflectiveObject glass = wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass);
+  glass.evidence.typed_by_dim_phantoms = true;
+  glass.evidence.geometric_type = ObjectType::mirror;
   for (const float seen_through : { 1000.0f, 50.0f })
-  {
-    std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass) };
-    objects[0].evidence.typed_by_dim_phantoms = true;
-    objects[0].evidence.geometric_type = ObjectType::mirror;
-    objects[0].evidence.phantom_brightness = 10.0f;
-    objects[0].evidence.transmitted_brightness = seen_through;
-    const Labelled out = label(sweep, objects);
-    std::size_t faint = 0, bright = 0;
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-      if (out.assignment.echoes[0][i] == 0)
-      {
-        const bool is_faint = sweep.echoes[0].points[i].y() > 0.0f;
-        const Label expected =
-            !is_faint && seen_through >= 100.0f ? Label::behindTransparent : Label::behindReflective;
-        EXPECT_EQ(out.labels.echoes[0][i], expected) << "seen through " << seen_through;
-        (is_faint ? faint : bright) += 1;
-      }
-    EXPECT_GT(faint, 50u);
-    EXPECT_GT(bright, 50u);
-  }
+    expectLabelledByBrightness(glass, seen_through, [&](bool is_faint) {
+      return !is_faint && seen_through >= 100.0f ? Label::behindTransparent : Label::behindReflective;
+    });
 }
 
 TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)

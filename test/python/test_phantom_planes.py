@@ -7,32 +7,14 @@ case): with the stage, 5 objects fewer (11 instead of 16), 945 fewer double-echo
 a wrong place, 432 fewer real points displaced and 13 fewer lost than with phantom_plane_share 0
 (measured at stop 29).
 """
-import dataclasses
-
 import pytest
 
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
 
-from ohm_mirror_detector3d import metrics  # noqa: E402
-from ohm_mirror_detector3d import scene as scenes  # noqa: E402
-from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
-from ohm_mirror_detector3d.simulate import SweepSimulator, ground_truth_objects  # noqa: E402
-
-FAMILY = 'hokuyo_utm30lx_ew'
-SCENE = 'random_7'
-
-
-def filtered(sweep, params):
-    """(the evaluator's figures, the objects found) of the sweep through a pipeline of params."""
-    ground_truth, labelled, cleaned, objects = ev.filter_case(core.Pipeline(params), sweep, ev.INPUT_MODES[FAMILY])
-    return metrics.evaluate_sweep(ground_truth, labelled, cleaned, objects, ground_truth_objects(sweep)), objects
-
 
 @pytest.fixture(scope='module')
-def with_and_without():
-    case = next(c for c in ev.cases([FAMILY], 8, 0, named=False) if c.scene == SCENE)
-    sweep = SweepSimulator(scenes.get(case.scene), ev.scanner_of(case)).sweep(seed=case.seed)
-    return filtered(sweep, core.Params()), filtered(sweep, dataclasses.replace(core.Params(), phantom_plane_share=0.0))
+def with_and_without(defaults_beside):
+    return defaults_beside('hokuyo_utm30lx_ew', 'random_7', phantom_plane_share=0.0)
 
 
 def test_the_default_switches_the_stage_on():

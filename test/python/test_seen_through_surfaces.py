@@ -11,32 +11,14 @@ instead of 23, double-echo phantoms left at a wrong place 13550 -> 6059, behind-
 double-echo points 0.18 -> 0.79, real points displaced 641 -> 1501 (what is seen through the pane
 and, reflected across it, lands on what the sensor saw is taken for its reflection), none more lost.
 """
-import dataclasses
-
 import pytest
 
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
 
-from ohm_mirror_detector3d import metrics  # noqa: E402
-from ohm_mirror_detector3d import scene as scenes  # noqa: E402
-from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
-from ohm_mirror_detector3d.simulate import SweepSimulator, ground_truth_objects  # noqa: E402
-
-FAMILY = 'velodyne_hdl32e'
-SCENE = 'random_3'
-
-
-def filtered(sweep, params):
-    """(the evaluator's figures, the objects found) of the sweep through a pipeline of params."""
-    ground_truth, labelled, cleaned, objects = ev.filter_case(core.Pipeline(params), sweep, ev.INPUT_MODES[FAMILY])
-    return metrics.evaluate_sweep(ground_truth, labelled, cleaned, objects, ground_truth_objects(sweep)), objects
-
 
 @pytest.fixture(scope='module')
-def with_and_without():
-    case = next(c for c in ev.cases([FAMILY], 4, 0, named=False) if c.scene == SCENE)
-    sweep = SweepSimulator(scenes.get(case.scene), ev.scanner_of(case)).sweep(seed=case.seed)
-    return filtered(sweep, core.Params()), filtered(sweep, dataclasses.replace(core.Params(), phantom_plane_share=0.0))
+def with_and_without(defaults_beside):
+    return defaults_beside('velodyne_hdl32e', 'random_3', phantom_plane_share=0.0)
 
 
 def test_the_surfaces_seen_through_the_glass_wall_are_taken_in_by_its_panes(with_and_without):
