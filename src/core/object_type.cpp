@@ -59,6 +59,15 @@ constexpr float kGlassRealFraction = 0.2f;
 constexpr float kDimPhantomShare = 0.03f;
 constexpr float kDimPhantomFraction = 0.3f;
 constexpr std::size_t kMinDimPhantomSamples = 10;
+// A phantom that keeps at least kBrightPhantomShare of what it lands on was reflected by a mirror
+// or shiny metal (0.25-0.9): a pane keeps that much only beyond 80 deg incidence (Fresnel, n = 1.5:
+// R = 0.39 at 80 deg, R^2 = 0.15). An object that the points inside its rectangle leave unknown
+// (too few of them decided: a small mirror, a sparse lidar) whose sampled phantoms' median share is
+// at least this, with at least kMinDimPhantomSamples of them, and whose phantoms land as a
+// mirror's must, is a mirror. Measured on random scenes 5000-5029 (the 64-, 128- and 32-ring
+// lidars): types right 13 -> 17, 29 -> 31, 21 -> 25; double-echo phantoms left 34.4 -> 32.4,
+// 24.6 -> 24.2, 58.7 -> 56.9 %; real points displaced up by 38-114. The same with 0.3.
+constexpr float kBrightPhantomShare = 0.15f;
 // The brightness of an object's phantoms and of the points seen through it (TypeEvidence) are
 // medians over at least this many sampled points with an intensity.
 constexpr std::size_t kMinBrightnessSamples = 10;
@@ -441,6 +450,15 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   {
     object.type = ObjectType::glass;
     result.typed_by_dim_phantoms = true;
+  }
+  // Phantoms too bright for glass where the rectangle's inside decided nothing: a mirror.
+  if (object.type == ObjectType::unknown && result.phantom_share_points >= kMinDimPhantomSamples &&
+      result.phantom_intensity_share >= kBrightPhantomShare &&
+      result.inlier_fraction >= config_.icp_min_inlier_fraction &&
+      result.landing_fitness <= static_cast<float>(config_.icp_fitness_threshold))
+  {
+    object.type = ObjectType::mirror;
+    result.typed_by_bright_phantoms = true;
   }
 }
 

@@ -294,6 +294,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["phantom_share_points"] = e.phantom_share_points;
   d["dim_phantom_fraction"] = static_cast<double>(e.dim_phantom_fraction);
   d["typed_by_dim_phantoms"] = e.typed_by_dim_phantoms;
+  d["typed_by_bright_phantoms"] = e.typed_by_bright_phantoms;
   d["phantom_brightness"] = static_cast<double>(e.phantom_brightness);
   d["transmitted_brightness"] = static_cast<double>(e.transmitted_brightness);
   d["landing_brightness"] = static_cast<double>(e.landing_brightness);

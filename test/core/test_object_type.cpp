@@ -260,6 +260,27 @@ TEST(ObjectType, PhantomsAsBrightAsAMirrorsOrShinyMetalsStayAMirror)
   }
 }
 
+TEST(ObjectType, AnObjectLeftUnknownWhosePhantomsAreTooBrightForGlassIsAMirror)
+{
+  // A narrow mirror: inside its rectangle, away from the border, too few points are decided for a
+  // type, though all of its phantoms land on the wall at x = -1. Brighter than any reflection in
+  // glass below 80 deg incidence (R^2 >= 0.15), they make it a mirror; without intensities, or as
+  // dim as glass's, they do not.
+  core::ReflectiveObject plain = test::wallObject(2.0f, 0.12f, 0.5f);
+  const core::Sweep geometry = test::rangeImage({ { 0, -1.0f, test::everywhere }, { 0, 5.0f, test::everywhere } });
+  ASSERT_EQ(typeIn(geometry, plain), ObjectType::unknown);
+  ASSERT_GE(plain.evidence.inlier_fraction, 0.9f);
+
+  core::ReflectiveObject bright = test::wallObject(2.0f, 0.12f, 0.5f);
+  EXPECT_EQ(typeIn(reflectionWithIntensities(0.5f * 0.5f), bright), ObjectType::mirror);
+  EXPECT_TRUE(bright.evidence.typed_by_bright_phantoms);
+  EXPECT_GE(bright.evidence.phantom_share_points, 10u);
+
+  core::ReflectiveObject dim = test::wallObject(2.0f, 0.12f, 0.5f);
+  EXPECT_EQ(typeIn(reflectionWithIntensities(0.3f * 0.3f), dim), ObjectType::unknown);
+  EXPECT_FALSE(dim.evidence.typed_by_bright_phantoms);
+}
+
 TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)
 {
   // Only the wall behind the surface was seen: no point behind it can be told by itself.

@@ -61,6 +61,10 @@ struct TypeEvidence
   float phantom_intensity_share = std::numeric_limits<float>::quiet_NaN();
   float dim_phantom_fraction = std::numeric_limits<float>::quiet_NaN();
   bool typed_by_dim_phantoms = false;
+  // Whether an object the points inside its rectangle left unknown (too few decided there) was
+  // typed mirror by its phantoms' brightness: bright enough for no reflection in glass, and landing
+  // as a mirror's phantoms land (object_type.cpp).
+  bool typed_by_bright_phantoms = false;
   // The type the geometry of the points behind gave, before their intensities were looked at.
   ObjectType geometric_type = ObjectType::unknown;
   // Median brightness (intensity x range^2) of the sampled phantoms and of the sampled points seen
