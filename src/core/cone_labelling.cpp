@@ -215,6 +215,24 @@ private:
   std::array<Eigen::Vector3d, 4> faces_;
 };
 
+// The box of beams [from, to) of echo k, over their points that are not nanPoint.
+BlockBox labelledBlockBox(const Sweep& sweep, const SweepLabels& labels, std::size_t k, std::size_t from,
+                          std::size_t to)
+{
+  const Label* echo_labels = labels.echoes[k].data();
+  return blockBox(sweep.echoes[k].points.data(), from, to,
+                  [echo_labels](std::size_t i) { return echo_labels[i] != Label::nanPoint; });
+}
+
+// Whether the cone of `bounds` may reach a point of the block of `box` (always, when the block
+// holds a non-finite point).
+bool mayReach(const ConeBounds& bounds, const BlockBox& box)
+{
+  if (box.any_non_finite)
+    return true;
+  return !box.box.isEmpty() && bounds.mayAffect(box.box.min().cast<double>(), box.box.max().cast<double>());
+}
+
 // Whether a point behind object `from`, reflected across it to `reflected`, lies behind another
 // object as the sensor's image in `from` sees it (the test of reflection_chains.cpp): then its
 // light may have come by a second reflection, or through that surface. The cones from each
@@ -353,15 +371,6 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
   }
 }
 
-// The points in the vision cones of the objects' phantom planes and of the surfaces seen through
-// them (phantom_planes.h), and in no object's own: behind the object's plane, each is labelled by
-// its own evidence against it (a phantom, or seen through). Without it, a point of a phantom
-// plane's cone is kept (behindTransparent) where the object's points or the phantom plane's said
-// glass, but never taken for a phantom (behindErrorS); beyond the phantom plane, the image of a
-// wall, no reflection in the object shows anything (it would show what lies behind that wall):
-// landing there proves nothing. A point on a surface seen through the object is kept
-// (behindTransparent: the object let the sensor see it); beyond that surface, a point without
-// evidence is none that the sensor could have seen directly (behindErrorS).
 // The boxes of blocks of kBlockBeams beams of each echo (their points that are not nanPoint), for
 // culling the blocks a cone cannot reach.
 struct EchoBlockBoxes
@@ -372,15 +381,20 @@ struct EchoBlockBoxes
   {
     const std::size_t beams = sweep.beamCount();
     for (std::size_t k = 0; k < 2; ++k)
-    {
-      const Label* echo_labels = labels.echoes[k].data();
       for (std::size_t from = 0; from < beams; from += kBlockBeams)
-        echoes[k].push_back(blockBox(sweep.echoes[k].points.data(), from, std::min(beams, from + kBlockBeams),
-                                     [echo_labels](std::size_t i) { return echo_labels[i] != Label::nanPoint; }));
-    }
+        echoes[k].push_back(labelledBlockBox(sweep, labels, k, from, std::min(beams, from + kBlockBeams)));
   }
 };
 
+// The points in the vision cones of the objects' phantom planes and of the surfaces seen through
+// them (phantom_planes.h), and in no object's own: behind the object's plane, each is labelled by
+// its own evidence against it (a phantom, or seen through). Without it, a point of a phantom
+// plane's cone is kept (behindTransparent) where the object's points or the phantom plane's said
+// glass, but never taken for a phantom (behindErrorS); beyond the phantom plane, the image of a
+// wall, no reflection in the object shows anything (it would show what lies behind that wall):
+// landing there proves nothing. A point on a surface seen through the object is kept
+// (behindTransparent: the object let the sensor see it); beyond that surface, a point without
+// evidence is none that the sensor could have seen directly (behindErrorS).
 void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBounds& bounds,
                        const EchoBlockBoxes& boxes, const ReflectiveObject& borrowed, bool seen_through,
                        std::size_t j, float plane_threshold, LazyEvidence& evidence,
@@ -394,9 +408,7 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
       if (i % kBlockBeams == 0)
       {
         // A block the cone cannot reach is skipped whole (the same labels, fewer cone tests).
-        const BlockBox& box = boxes.echoes[k][i / kBlockBeams];
-        if (!box.any_non_finite &&
-            (box.box.isEmpty() || !bounds.mayAffect(box.box.min().cast<double>(), box.box.max().cast<double>())))
+        if (!mayReach(bounds, boxes.echoes[k][i / kBlockBeams]))
         {
           i += kBlockBeams - 1;
           continue;
@@ -511,16 +523,9 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   const auto cull = [&](std::size_t k, std::size_t from, std::size_t to, const std::vector<std::size_t>& candidates,
                         std::vector<std::size_t>& out) {
     out.clear();
-    const Label* echo_labels = labels.echoes[k].data();
-    const BlockBox block_box = blockBox(sweep.echoes[k].points.data(), from, to, [echo_labels](std::size_t i) {
-      return echo_labels[i] != Label::nanPoint;
-    });
-    if (!block_box.any_non_finite && block_box.box.isEmpty())
-      return;
-    const Eigen::Vector3d low = block_box.box.min().cast<double>();
-    const Eigen::Vector3d high = block_box.box.max().cast<double>();
+    const BlockBox block_box = labelledBlockBox(sweep, labels, k, from, to);
     for (const std::size_t j : candidates)
-      if (block_box.any_non_finite || bounds[j].mayAffect(low, high))
+      if (mayReach(bounds[j], block_box))
         out.push_back(j);
   };
   std::vector<std::size_t> all(objects.size());

@@ -271,7 +271,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["transmitted_points"] = object.transmitted_points;
   d["ambiguous_points"] = object.ambiguous_points;
   d["undecided_points"] = object.undecided_points;
-  // The objects it took in (phantom_planes.h): how many, and their centres.
+  // The objects it took in (phantom_planes.h): of which kind, where, how large, of how many echoes.
   py::list taken;
   for (const auto* kind : { &object.phantom_planes, &object.seen_through_surfaces })
     for (const core::ReflectiveObject& other : *kind)
