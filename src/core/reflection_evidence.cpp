@@ -89,6 +89,15 @@ Eigen::Vector3f flatSurfaceNormal(const Matrix& covariance)
   return solver.eigenvectors().col(0).template cast<float>();
 }
 
+// The sweep's echo separation (see ReflectionEvidence::echoSeparation): the kSeparationRank-th
+// smallest distance between the two echoes of a beam, from at least kMinSeparationSamples double
+// echoes. Not a quantile: in a sweep full of a mirror's phantoms (random scene 4001 of the
+// rotating Hokuyo: 25556 double echoes, 0.3 m resolved) even the 1 % quantile is a phantom's
+// distance behind the mirror (1.1 m); the few smallest are the sensor's (mixed pixels at depth
+// edges), and the rank keeps one odd return from deciding.
+constexpr std::size_t kSeparationRank = 3;
+constexpr std::size_t kMinSeparationSamples = 100;
+
 float median(std::vector<float>& values)
 {
   if (values.empty())
@@ -226,6 +235,20 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
       if (best_squared_cosine > 0.0f)
         column_angles_.push_back(std::acos(std::min(1.0f, std::sqrt(best_squared_cosine))));
     }
+  // The echo separation: one of the smallest distances between a beam's two echoes.
+  separations_.clear();
+  const std::vector<Eigen::Vector3f>& second = sweep.echoes[1].points;
+  for (std::size_t i = 0; i < beams; ++i)
+    if (usable(i) && labels.echoes[1][i] != Label::nanPoint && second[i].allFinite() && second[i] != first[i])
+      separations_.push_back(std::fabs((second[i] - origin_).norm() - (first[i] - origin_).norm()));
+  echo_separation_ = 0.0f;
+  if (separations_.size() >= kMinSeparationSamples)
+  {
+    const auto low = separations_.begin() + static_cast<std::ptrdiff_t>(kSeparationRank - 1);
+    std::nth_element(separations_.begin(), low, separations_.end());
+    echo_separation_ = *low;
+  }
+
   auto implausible = [](float a) { return !(a >= kMinStep && a <= kMaxStep); };
   row_angles_.erase(std::remove_if(row_angles_.begin(), row_angles_.end(), implausible), row_angles_.end());
   column_angles_.erase(std::remove_if(column_angles_.begin(), column_angles_.end(), implausible), column_angles_.end());

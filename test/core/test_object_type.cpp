@@ -48,6 +48,28 @@ struct Scene
     labels.emplace_back(Label::errorSurface, Label::error);
   }
 
+  // Double echoes on ordinary geometry, as a sensor that resolves two echoes `separation` apart
+  // gives them where its footprint straddles a depth edge: `count` beams at the wall x = -1 beside
+  // the room (2 <= y <= 3), their second echo `separation` beyond the first.
+  void addMixedPixels(std::size_t count, float separation)
+  {
+    for (std::size_t k = 0; k < count; ++k)
+    {
+      const Eigen::Vector3f first(-1.0f, 2.0f + 0.01f * static_cast<float>(k), 0.0f);
+      beams.push_back({ first, first + separation * first.normalized() });
+      labels.emplace_back(Label::unchecked, Label::unchecked);
+    }
+  }
+
+  // Single echoes `behind` beyond the object's plane, at |y|, |z| <= 0.18 (8 mm apart): reflected,
+  // they land within the directions of the double echoes' surface echoes.
+  void addEchoesJustBehind(float behind)
+  {
+    for (float y = -0.18f; y <= 0.18f; y += 0.008f)
+      for (float z = -0.18f; z <= 0.18f; z += 0.008f)
+        addSingleReturn(Eigen::Vector3f(2.0f + behind, y, z));
+  }
+
   // Double echoes through the object of every point of a wall at x = far_x (|y| <= 1.2, |z| <= 1).
   void addDoubleEchoesSeeing(float far_x)
   {
@@ -279,6 +301,35 @@ TEST(ObjectType, AnObjectLeftUnknownWhosePhantomsAreTooBrightForGlassIsAMirror)
   core::ReflectiveObject dim = test::wallObject(2.0f, 0.12f, 0.5f);
   EXPECT_EQ(typeIn(reflectionWithIntensities(0.3f * 0.3f), dim), ObjectType::unknown);
   EXPECT_FALSE(dim.evidence.typed_by_bright_phantoms);
+}
+
+TEST(ObjectType, MergedEchoesJustBehindShinyMetalDoNotMakeItGlass)
+{
+  // Shiny metal: its phantoms land on the wall at x = -1, and over its inside single echoes lie
+  // 0.15 m behind it (its diffuse echo merged with its reflection off something just in front
+  // of it). Reflected, they would lie in front of the metal, where the sensor saw the metal
+  // itself: seen through, were they not so near the plane for a sensor that resolves two
+  // echoes only 0.9 m apart (its mixed pixels show it). Enough of them to make it glass
+  // otherwise.
+  Scene metal;
+  metal.addRealWall(-1.0f, 1.5f);
+  metal.addDoubleEchoesSeeing(5.0f);
+  metal.addMixedPixels(150, 0.9f);
+  metal.addEchoesJustBehind(0.15f);
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(metal.analyze(object), ObjectType::mirror);
+  EXPECT_LT(object.evidence.real_fraction, 0.05f);
+
+  // The same echoes 0.6 m behind the plane are real, seen through it: no merged echo lies that
+  // far behind (kMergedEchoReach of the separation).
+  Scene pane;
+  pane.addRealWall(-1.0f, 1.5f);
+  pane.addDoubleEchoesSeeing(5.0f);
+  pane.addMixedPixels(150, 0.9f);
+  pane.addEchoesJustBehind(0.6f);
+  core::ReflectiveObject seen_through = objectAtTwoMetres();
+  EXPECT_EQ(pane.analyze(seen_through), ObjectType::glass);
+  EXPECT_GT(seen_through.evidence.real_fraction, 0.2f);
 }
 
 TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)

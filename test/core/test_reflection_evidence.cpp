@@ -165,6 +165,36 @@ TEST(ReflectionEvidence, TheWideNormalTellsANoisyFloorThroughThePlaneFromAWallFa
   EXPECT_GE(wall_phantom, wall_landed * 98 / 100);
 }
 
+// A wall 4 m away all around, with `count` double echoes (mixed pixels) whose second echo lies
+// `separation` + k cm beyond the first (k = 0, 1, ...).
+core::Sweep wallWithDoubleEchoes(std::size_t count, float separation)
+{
+  core::Sweep sweep = rangeImage({ { 0, 4.0f, everywhere }, { 0, -4.0f, everywhere }, { 1, 4.0f, everywhere },
+                                   { 1, -4.0f, everywhere } });
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    const std::size_t beam = 60 * 360 + 3 * k;  // along the horizon, every third degree
+    const Eigen::Vector3f& first = sweep.echoes[0].points[beam];
+    sweep.echoes[1].points[beam] = first + (separation + 0.01f * static_cast<float>(k)) * first.normalized();
+  }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return sweep;
+}
+
+TEST(ReflectionEvidence, TheEchoSeparationIsTheSmallestTheSensorResolved)
+{
+  // 110 double echoes 0.9 to 1.99 m apart: the third smallest distance (0.92 m).
+  EXPECT_NEAR(evidenceOf(wallWithDoubleEchoes(110, 0.9f)).echoSeparation(), 0.92f, 1e-3f);
+  // One odd pair closer together does not decide it.
+  core::Sweep odd = wallWithDoubleEchoes(110, 0.9f);
+  const std::size_t beam = 60 * 360 + 1;
+  odd.echoes[1].points[beam] = odd.echoes[0].points[beam] * 1.02f;
+  odd.computeRanges(Eigen::Vector3f::Zero());
+  EXPECT_NEAR(evidenceOf(odd).echoSeparation(), 0.91f, 1e-3f);
+  // Too few double echoes to tell: none.
+  EXPECT_EQ(evidenceOf(wallWithDoubleEchoes(90, 0.9f)).echoSeparation(), 0.0f);
+}
+
 TEST(ReflectionEvidence, ASweepWithoutReturnsHasNoEvidence)
 {
   const core::ReflectionEvidence evidence = evidenceOf(rangeImage({}));

@@ -94,6 +94,13 @@ public:
   // The coarser angular step of the sweep [rad], 0 when there is no index.
   float angularStep() const { return step_; }
   const Eigen::Vector3f& sensorOrigin() const { return origin_; }
+  // The smallest distance between a beam's two echoes that the sensor resolves, as this sweep
+  // shows it [m]: one of the smallest distances between the echoes of its double-echo beams (0
+  // with too few of them). Returns of one beam closer together than that come back as one
+  // echo at a range between them: where a partly specular surface (shiny metal) reflects the
+  // beam onto something just in front of it, that echo lies behind the surface, within this
+  // distance of it, and is neither the surface nor a phantom.
+  float echoSeparation() const { return echo_separation_; }
 
   // The evidence for point p behind `plane` (n.x + d = 0, n a unit normal towards the sensor;
   // p with n.p + d < 0): reflected across the plane to q, is there a return at q's range in
@@ -174,6 +181,8 @@ private:
   std::vector<float> squared_ranges_;  // |x|^2 of the index's returns, in its sorted order
   std::vector<float> intensities_;     // their intensities (NaN: none), in the same order
   std::vector<float> row_angles_, column_angles_;
+  std::vector<float> separations_;
+  float echo_separation_ = 0.0f;
 };
 
 }  // namespace core
