@@ -315,12 +315,12 @@ TEST(ConeLabelling, APathThatMayGoOnThroughAnotherMirrorProvesNothing)
 }
 
 // Nothing seen in front of a pane at x = 2: no point behind it can be told by its geometry. Its
-// sampled phantoms came back with a brightness (intensity x r^2) of 10, what was seen through it
-// with `seen_through`; behind it, where y > 0, points of brightness 5, elsewhere of 900. Labels
-// the points behind the pane (`glass`, its evidence set so) and checks each against
+// sampled phantoms came back with a brightness (intensity x r^2) of `phantom`, what was seen
+// through it with `seen_through`; behind it, where y > 0, points of brightness 5, elsewhere of
+// 900. Labels the points behind the pane (`glass`, its evidence set so) and checks each against
 // expected(is_faint).
 void expectLabelledByBrightness(core::ReflectiveObject glass, float seen_through,
-                                const std::function<Label(bool is_faint)>& expected)
+                                const std::function<Label(bool is_faint)>& expected, float phantom = 10.0f)
 {
   core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
   sweep.has_intensity = true;
@@ -330,7 +330,7 @@ void expectLabelledByBrightness(core::ReflectiveObject glass, float seen_through
       const Eigen::Vector3f& p = sweep.echoes[k].points[i];
       sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
     }
-  glass.evidence.phantom_brightness = 10.0f;
+  glass.evidence.phantom_brightness = phantom;
   glass.evidence.transmitted_brightness = seen_through;
   std::vector<core::ReflectiveObject> objects{ glass };
   const Labelled out = label(sweep, objects);
@@ -353,6 +353,21 @@ TEST(ConeLabelling, BehindGlassAPointWithoutEvidenceFarFainterThanWhatIsSeenThro
     expectLabelledByBrightness(wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass), seen_through, [&](bool is_faint) {
       return is_faint && seen_through >= 100.0f ? Label::behindReflective : Label::behindTransparent;
     });
+}
+
+TEST(ConeLabelling, BehindGlassAPointTwentyTimesFainterThanWhatIsSeenThroughIsAReflectionWhateverItsPhantoms)
+{
+  // The pane's sampled phantoms as bright as what is seen through it (real points that landed on
+  // seen geometry by coincidence): no contrast between the two. A point without evidence 200
+  // times fainter than what is seen through is still a reflection; 10 times fainter, it may be a
+  // dark surface seen through.
+  for (const float seen_through : { 1000.0f, 50.0f })
+    expectLabelledByBrightness(
+        wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass), seen_through,
+        [&](bool is_faint) {
+          return is_faint && seen_through >= 1000.0f ? Label::behindReflective : Label::behindTransparent;
+        },
+        seen_through);
 }
 
 TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsAPointAsBrightAsWhatIsSeenThroughIsReal)
