@@ -181,6 +181,7 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
 {
   origin_ = sensor_origin;
   step_ = 0.0f;
+  echo_separation_ = 0.0f;
   index_.reservePoints(0);
   index_.setPointCount(0);
   const std::size_t beams = sweep.beamCount();
@@ -235,20 +236,6 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
       if (best_squared_cosine > 0.0f)
         column_angles_.push_back(std::acos(std::min(1.0f, std::sqrt(best_squared_cosine))));
     }
-  // The echo separation: one of the smallest distances between a beam's two echoes.
-  separations_.clear();
-  const std::vector<Eigen::Vector3f>& second = sweep.echoes[1].points;
-  for (std::size_t i = 0; i < beams; ++i)
-    if (usable(i) && labels.echoes[1][i] != Label::nanPoint && second[i].allFinite() && second[i] != first[i])
-      separations_.push_back(std::fabs((second[i] - origin_).norm() - (first[i] - origin_).norm()));
-  echo_separation_ = 0.0f;
-  if (separations_.size() >= kMinSeparationSamples)
-  {
-    const auto low = separations_.begin() + static_cast<std::ptrdiff_t>(kSeparationRank - 1);
-    std::nth_element(separations_.begin(), low, separations_.end());
-    echo_separation_ = *low;
-  }
-
   auto implausible = [](float a) { return !(a >= kMinStep && a <= kMaxStep); };
   row_angles_.erase(std::remove_if(row_angles_.begin(), row_angles_.end(), implausible), row_angles_.end());
   column_angles_.erase(std::remove_if(column_angles_.begin(), column_angles_.end(), implausible), column_angles_.end());
@@ -269,6 +256,11 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   float* zs = index_.pointZ();
   std::uint32_t* ids = index_.pointId();
   std::size_t count = 0;
+  // The echo separation on the way: the kSeparationRank smallest distances between a beam's two
+  // echoes (ascending), over the double echoes whose first echo is indexed too.
+  std::array<float, kSeparationRank> smallest;
+  smallest.fill(std::numeric_limits<float>::infinity());
+  std::size_t double_echoes = 0;
   for (std::size_t k = 0; k < 2; ++k)
   {
     const std::vector<Eigen::Vector3f>& points = sweep.echoes[k].points;
@@ -282,8 +274,18 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
       zs[count] = x.z();
       ids[count] = static_cast<std::uint32_t>(k * beams + i);
       ++count;
+      if (k == 1 && usable(i))
+      {
+        ++double_echoes;
+        float separation = std::fabs(x.norm() - (first[i] - origin_).norm());
+        for (float& s : smallest)
+          if (separation < s)
+            std::swap(separation, s);
+      }
     }
   }
+  if (double_echoes >= kMinSeparationSamples)
+    echo_separation_ = smallest.back();
   index_.setPointCount(count);
   SpatialIndex::Options options;
   options.lookup = true;

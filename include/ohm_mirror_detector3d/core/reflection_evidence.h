@@ -181,7 +181,6 @@ private:
   std::vector<float> squared_ranges_;  // |x|^2 of the index's returns, in its sorted order
   std::vector<float> intensities_;     // their intensities (NaN: none), in the same order
   std::vector<float> row_angles_, column_angles_;
-  std::vector<float> separations_;
   float echo_separation_ = 0.0f;
 };
 
