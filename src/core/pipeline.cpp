@@ -7,6 +7,7 @@
 #include "ohm_mirror_detector3d/core/post_filter.h"
 
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -248,6 +249,7 @@ void Pipeline::label(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, S
   r.times.reflection_chains = clock.lap();
   collectCleaned(sweep, r.labels, r.objects, r.paths, r.cleaned);
   r.times.cleaned_output = clock.lap();
+  r.echo_separation = evidence_built_ ? evidence_.echoSeparation() : std::numeric_limits<float>::quiet_NaN();
 }
 
 }  // namespace core

@@ -333,6 +333,7 @@ py::dict statsOf(const core::PipelineResult& r, const core::Params& params)
   stats["stage_seconds"] = stage_seconds;
   stats["released_surface_beams"] = r.released_surface_beams;
   stats["mixed_pixel_beams"] = r.mixed_pixel_beams;
+  stats["echo_separation"] = r.echo_separation;
   stats["multiply_reflected_phantoms"] = r.reflection_chains.multiply_reflected;
   stats["unexplained_phantoms"] = r.reflection_chains.unexplained;
   // A stage that removed an implausible share of the sweep, in words (core/removal_report.h).

@@ -80,6 +80,10 @@ struct PipelineResult
   // sampling found without support (both echoes unchecked again), and mixed pixels (MixedPixels).
   std::size_t released_surface_beams = 0;
   std::size_t mixed_pixel_beams = 0;
+  // The smallest distance between a beam's two echoes the sensor resolved in this sweep
+  // (ReflectionEvidence::echoSeparation) [m]; NaN when the per-point evidence was not built (no
+  // object with points behind it), 0 with too few double echoes to tell.
+  float echo_separation = 0.0f;
   RemovalCounts removals;                  // for implausibleRemovals (removal_report.h)
   StageTimes times;                        // per-stage wall time of this sweep
 };
