@@ -303,33 +303,36 @@ TEST(ObjectType, AnObjectLeftUnknownWhosePhantomsAreTooBrightForGlassIsAMirror)
   EXPECT_FALSE(dim.evidence.typed_by_bright_phantoms);
 }
 
+// A reflecting surface at x = 2 whose phantoms land on the wall at x = -1, seen by a sensor that
+// resolves two echoes 0.9 m apart (its mixed pixels show it), with single echoes `behind` beyond
+// its plane over its inside: the object's type and evidence.
+core::ReflectiveObject surfaceWithEchoesBehind(float behind)
+{
+  Scene scene;
+  scene.addRealWall(-1.0f, 1.5f);
+  scene.addDoubleEchoesSeeing(5.0f);
+  scene.addMixedPixels(150, 0.9f);
+  scene.addEchoesJustBehind(behind);
+  core::ReflectiveObject object = objectAtTwoMetres();
+  scene.analyze(object);
+  return object;
+}
+
 TEST(ObjectType, MergedEchoesJustBehindShinyMetalDoNotMakeItGlass)
 {
-  // Shiny metal: its phantoms land on the wall at x = -1, and over its inside single echoes lie
-  // 0.15 m behind it (its diffuse echo merged with its reflection off something just in front
-  // of it). Reflected, they would lie in front of the metal, where the sensor saw the metal
-  // itself: seen through, were they not so near the plane for a sensor that resolves two
-  // echoes only 0.9 m apart (its mixed pixels show it). Enough of them to make it glass
-  // otherwise.
-  Scene metal;
-  metal.addRealWall(-1.0f, 1.5f);
-  metal.addDoubleEchoesSeeing(5.0f);
-  metal.addMixedPixels(150, 0.9f);
-  metal.addEchoesJustBehind(0.15f);
-  core::ReflectiveObject object = objectAtTwoMetres();
-  EXPECT_EQ(metal.analyze(object), ObjectType::mirror);
-  EXPECT_LT(object.evidence.real_fraction, 0.05f);
+  // Shiny metal: over its inside single echoes lie 0.15 m behind it (its diffuse echo merged with
+  // its reflection off something just in front of it). Reflected, they would lie in front of the
+  // metal, where the sensor saw the metal itself: seen through, were they not so near the plane
+  // for the sensor's echo separation. Enough of them to make it glass otherwise.
+  const core::ReflectiveObject metal = surfaceWithEchoesBehind(0.15f);
+  EXPECT_EQ(metal.type, ObjectType::mirror);
+  EXPECT_LT(metal.evidence.real_fraction, 0.05f);
 
   // The same echoes 0.6 m behind the plane are real, seen through it: no merged echo lies that
   // far behind (kMergedEchoReach of the separation).
-  Scene pane;
-  pane.addRealWall(-1.0f, 1.5f);
-  pane.addDoubleEchoesSeeing(5.0f);
-  pane.addMixedPixels(150, 0.9f);
-  pane.addEchoesJustBehind(0.6f);
-  core::ReflectiveObject seen_through = objectAtTwoMetres();
-  EXPECT_EQ(pane.analyze(seen_through), ObjectType::glass);
-  EXPECT_GT(seen_through.evidence.real_fraction, 0.2f);
+  const core::ReflectiveObject pane = surfaceWithEchoesBehind(0.6f);
+  EXPECT_EQ(pane.type, ObjectType::glass);
+  EXPECT_GT(pane.evidence.real_fraction, 0.2f);
 }
 
 TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)
