@@ -5,7 +5,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <memory>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
@@ -384,11 +383,13 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
 }
 
 // The boxes of blocks of kBlockBeams beams of each echo (their points that are not nanPoint), for
-// culling the blocks a cone cannot reach.
+// culling the blocks a cone cannot reach: the objects' own cones and the borrowed ones alike (the
+// labelling sets no point nanPoint, so the boxes hold for the whole of it).
 struct EchoBlockBoxes
 {
   std::array<std::vector<BlockBox>, 2> echoes;
 
+  EchoBlockBoxes() = default;
   EchoBlockBoxes(const Sweep& sweep, const SweepLabels& labels)
   {
     const std::size_t beams = sweep.beamCount();
@@ -460,21 +461,18 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
 }
 
 void labelPhantomPlaneCones(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, float plane_threshold,
-                            float margin, LazyEvidence& evidence, std::vector<ReflectiveObject>& objects,
-                            SweepLabels& labels, ObjectAssignment& assignment)
+                            float margin, const EchoBlockBoxes& boxes, LazyEvidence& evidence,
+                            std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment)
 {
-  std::unique_ptr<EchoBlockBoxes> boxes;
   for (std::size_t j = 0; j < objects.size(); ++j)
   {
     for (const bool seen_through : { false, true })
       for (const ReflectiveObject& borrowed :
            seen_through ? objects[j].seen_through_surfaces : objects[j].phantom_planes)
       {
-        if (!boxes)
-          boxes = std::make_unique<EchoBlockBoxes>(sweep, labels);
         const VisionCone cone(borrowed, sensor_origin, plane_threshold, margin);
         const ConeBounds bounds(borrowed, sensor_origin, plane_threshold, margin);
-        labelBorrowedCone(sweep, cone, bounds, *boxes, borrowed, seen_through, j, plane_threshold, evidence, objects,
+        labelBorrowedCone(sweep, cone, bounds, boxes, borrowed, seen_through, j, plane_threshold, evidence, objects,
                           labels, assignment);
       }
   }
@@ -530,16 +528,17 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   std::vector<std::size_t> reachable, sub_reachable;
   reachable.reserve(objects.size());
   sub_reachable.reserve(objects.size());
-  // The cones of `candidates` that may reach beams [from, to) of echo k (every one of them
-  // when the box of its labelled points is not finite).
-  const auto cull = [&](std::size_t k, std::size_t from, std::size_t to, const std::vector<std::size_t>& candidates,
+  // The cones of `candidates` that may reach the beams of `block_box` (every one of them when the
+  // box of its labelled points is not finite).
+  const auto cull = [&](const BlockBox& block_box, const std::vector<std::size_t>& candidates,
                         std::vector<std::size_t>& out) {
     out.clear();
-    const BlockBox block_box = labelledBlockBox(sweep, labels, k, from, to);
     for (const std::size_t j : candidates)
       if (mayReach(bounds[j], block_box))
         out.push_back(j);
   };
+  // Without an object there is no cone to cull (nor a borrowed one).
+  const EchoBlockBoxes boxes = objects.empty() ? EchoBlockBoxes() : EchoBlockBoxes(sweep, labels);
   std::vector<std::size_t> all(objects.size());
   for (std::size_t j = 0; j < objects.size(); ++j)
     all[j] = j;
@@ -551,7 +550,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
       const std::size_t block_end = std::min(beams, block + kBlockBeams);
       reachable.clear();
       if (!objects.empty())
-        cull(k, block, block_end, all, reachable);
+        cull(boxes.echoes[k][block / kBlockBeams], all, reachable);
       if (reachable.empty())
       {
         labelBlock(echo, block, block_end, reachable, cones, evidence, chains, objects, labels.echoes[k], assignment.echoes[k],
@@ -561,13 +560,13 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
       for (std::size_t sub = block; sub < block_end; sub += kSubBlockBeams)
       {
         const std::size_t sub_end = std::min(block_end, sub + kSubBlockBeams);
-        cull(k, sub, sub_end, reachable, sub_reachable);
+        cull(labelledBlockBox(sweep, labels, k, sub, sub_end), reachable, sub_reachable);
         labelBlock(echo, sub, sub_end, sub_reachable, cones, evidence, chains, objects, labels.echoes[k],
                    assignment.echoes[k], intensity_sums, intensity_counts);
       }
     }
   }
-  labelPhantomPlaneCones(sweep, sensor_origin, plane_threshold, margin, evidence, objects, labels, assignment);
+  labelPhantomPlaneCones(sweep, sensor_origin, plane_threshold, margin, boxes, evidence, objects, labels, assignment);
   for (std::size_t j = 0; j < objects.size(); ++j)
     objects[j].mean_surface_intensity = intensity_counts[j] > 0 ?
                                             static_cast<float>(intensity_sums[j] / intensity_counts[j]) :
