@@ -34,12 +34,14 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // enough behind the host's plane) are found first, with no test of the evidence; once neither
   // share can reach it, the rest is not tested (the shares are then below min_share, not exact).
   const float needed = config_.min_share * static_cast<float>(sampled);
+  // An echo with a grid cell (an input point without one is not in the direction index) at least
+  // min_depth behind the host's plane.
+  auto behindHost = [&](const PointRef& ref) {
+    return ref.echo <= 1 && host.signedDistance(sweep.echoes[ref.echo].points[ref.beam]) < -config_.min_depth;
+  };
   std::size_t behind = 0;
   for (std::size_t i = 0; i < echoes.size(); i += stride)
-  {
-    const PointRef& ref = echoes[i];
-    behind += ref.echo <= 1 && host.signedDistance(sweep.echoes[ref.echo].points[ref.beam]) < -config_.min_depth;
-  }
+    behind += behindHost(echoes[i]) ? 1 : 0;
   if (static_cast<float>(behind) < needed)
     return result;
   // The sample is visited in kPasses interleaved passes, each spread over the whole object: after
@@ -47,20 +49,20 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // are no pair at all: random scene 29 on the 32-ring lidar, 30 objects, 220 pairs behind one
   // another, 18000 tests in 12 ms before).
   std::size_t phantoms = 0, seen_through = 0, left = behind, tested = 0;
-  for (std::size_t pass = 0; pass < kPasses; ++pass)
+  // Whether neither share can reach min_share any more, even if every echo left counted.
+  auto hopeless = [&]() { return static_cast<float>(std::max(phantoms, seen_through) + left) < needed; };
+  for (std::size_t pass = 0; pass < kPasses && !hopeless(); ++pass)
   {
     if (pass == 1 && static_cast<float>(std::max(phantoms, seen_through)) < 0.5f * config_.min_share * tested)
       break;
     for (std::size_t i = pass * stride; i < echoes.size(); i += kPasses * stride)
     {
       const PointRef& ref = echoes[i];
-      if (ref.echo > 1)
-        continue;  // an input point without a grid cell: not in the direction index
-      const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
-      if (!(host.signedDistance(p) < -config_.min_depth))
+      if (!behindHost(ref))
         continue;
-      if (static_cast<float>(std::max(phantoms, seen_through) + left) < needed)
+      if (hopeless())
         break;
+      const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
       --left;
       ++tested;
       // A real surface echo behind the host whose beam's far echo (behind both planes) is the
