@@ -4,8 +4,8 @@
 // its plane around the patch that the rays cross (points behind the plane, no return on it),
 // bounded by returns on the plane. An opening (a doorway) has no surface echo and so no patch:
 // it is never grown from, and the frame or wall between a pane and a doorway beside it stops
-// the growth. Where no boundary is found the growth ends at growth_max_extent beyond the patch
-// and the object says so (growth_capped).
+// the growth. A growth that reaches growth_max_extent beyond the patch on some side found no
+// boundary there: it is refused (the object keeps its patch and says growth_capped).
 #pragma once
 
 #include <vector>
