@@ -511,6 +511,164 @@ TEST(ConeLabelling, WhereConesOverlapTheNearerSurfaceWins)
   }
 }
 
+// A pane at x = distance grown (glass_growth.h) to width x height from a patch of
+// patch x patch around its centre.
+core::ReflectiveObject grownPane(float distance, float width, float height, float patch)
+{
+  core::ReflectiveObject pane = wallObject(distance, width, height, ObjectType::glass);
+  pane.grown = true;
+  pane.patch_centre = pane.centre;
+  pane.patch_width = pane.patch_height = patch;
+  return pane;
+}
+
+TEST(ConeLabelling, AReturnOnAGrownPanesPlaneBeyondItsPatchIsNoEchoOfThePane)
+{
+  // Glass echoes only near perpendicular incidence, in its patch; beyond it a return on the plane
+  // is the frame, the wall or the floor.
+  const core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.05f, 0.0f }, { 2.0f, 0.05f, 0.0f } },
+                                              { { 2.0f, 0.6f, 0.3f }, { 2.0f, 0.6f, 0.3f } } });
+  std::vector<core::ReflectiveObject> objects{ grownPane(2.0f, 2.0f, 1.5f, 0.2f) };
+  Labelled out = label(sweep, objects);
+  EXPECT_EQ(out.labels.echoes[0][0], Label::transparentSurface);
+  EXPECT_EQ(out.labels.echoes[0][1], Label::valid);
+  EXPECT_EQ(out.assignment.echoes[0][1], core::ObjectAssignment::kNoObject);
+  EXPECT_EQ(objects[0].surface_points, 2u);  // both echoes of the first beam
+  // A pane of that extent that did not grow (its rectangle is its patch) echoes all over it.
+  objects[0].grown = false;
+  out = label(sweep, objects);
+  EXPECT_EQ(out.labels.echoes[0][1], Label::transparentSurface);
+}
+
+TEST(ConeLabelling, BeyondAGrownPanesPatchAMirrorInItsPlaneTakesThePoint)
+{
+  // A metal panel 3 cm behind the pane's plane, beside its patch (y from 0.4 to 0.8), which the
+  // pane's growth reached over. Nothing is seen in front: the points take their object's type.
+  std::vector<core::ReflectiveObject> objects{ grownPane(2.0f, 2.0f, 1.5f, 0.2f),
+                                               wallObject(2.03f, 0.4f, 0.6f, ObjectType::mirror, 1) };
+  objects[1].centre.y() = 0.6f;
+  // Behind both, crossing the pane's plane at y = 0.6; behind the pane's patch only.
+  const core::Sweep sweep = test::makeSweep({ { { 4.0f, 1.2f, 0.0f }, { 4.0f, 1.2f, 0.0f } },
+                                              { { 4.0f, 0.1f, 0.0f }, { 4.0f, 0.1f, 0.0f } } });
+  Labelled out = label(sweep, objects);
+  EXPECT_EQ(out.assignment.echoes[0][0], 1);
+  EXPECT_EQ(out.labels.echoes[0][0], Label::behindReflective);
+  EXPECT_EQ(out.assignment.echoes[0][1], 0);
+  EXPECT_EQ(out.labels.echoes[0][1], Label::behindTransparent);
+  // Where the pane's own patch reaches, the nearer surface wins as everywhere else.
+  objects[0].patch_width = 2.0f;
+  out = label(sweep, objects);
+  EXPECT_EQ(out.assignment.echoes[0][0], 0);
+  EXPECT_EQ(out.labels.echoes[0][0], Label::behindTransparent);
+}
+
+TEST(ConeLabelling, BeyondAGrownPanesPatchAnotherPatchOfThePaneTakesThePoint)
+{
+  // A pane found as two patches, both grown over the whole pane: where the ray crosses the plane
+  // in the second's patch, the second takes the point, though the first's plane lies nearer.
+  core::ReflectiveObject second = grownPane(2.02f, 2.0f, 1.5f, 0.4f);
+  second.id = 1;
+  second.patch_centre = Eigen::Vector3f(2.02f, 0.6f, 0.0f);
+  std::vector<core::ReflectiveObject> objects{ grownPane(2.0f, 2.0f, 1.5f, 0.2f), second };
+  const core::Sweep sweep = test::makeSweep({ { { 4.0f, 1.2f, 0.0f }, { 4.0f, 1.2f, 0.0f } } });
+  Labelled out = label(sweep, objects);
+  EXPECT_EQ(out.assignment.echoes[0][0], 1);
+  // Another pane 30 cm behind is no patch of the same one: the nearer surface wins.
+  objects[1].plane[3] = 2.3f;
+  objects[1].centre.x() = objects[1].patch_centre.x() = 2.3f;
+  out = label(sweep, objects);
+  EXPECT_EQ(out.assignment.echoes[0][0], 0);
+}
+
+TEST(ConeLabelling, BeyondTwoGrownPatchesOfOnePaneTheWiderPatchTakesThePoint)
+{
+  // Both patches grown over the whole pane, the point beyond both: the plane fitted to the wider
+  // patch (more surface echoes) back-projects its reflections more exactly. A plane 6 degrees off
+  // is no patch of the same pane: the nearer surface wins.
+  core::ReflectiveObject wide = grownPane(2.02f, 2.0f, 1.5f, 0.5f);
+  wide.id = 1;
+  wide.patch_centre = Eigen::Vector3f(2.02f, -0.6f, 0.0f);
+  std::vector<core::ReflectiveObject> objects{ grownPane(2.0f, 2.0f, 1.5f, 0.2f), wide };
+  const core::Sweep sweep = test::makeSweep({ { { 4.0f, 1.2f, 0.0f }, { 4.0f, 1.2f, 0.0f } } });
+  Labelled out = label(sweep, objects);
+  EXPECT_EQ(out.assignment.echoes[0][0], 1);
+  const float turn = 6.0f * static_cast<float>(M_PI) / 180.0f;
+  objects[1].plane.head<3>() = Eigen::Vector3f(-std::cos(turn), std::sin(turn), 0.0f);
+  objects[1].plane[3] = -objects[1].plane.head<3>().dot(objects[1].centre);
+  out = label(sweep, objects);
+  EXPECT_EQ(out.assignment.echoes[0][0], 0);
+}
+
+TEST(ConeLabelling, APaneGrownOverAMirrorsPointDoesNotLeaveItsPathUnchecked)
+{
+  // The points behind the mirror are real by their paths (the seen wall at x = -1 blocks a
+  // phantom's light). A pane 30 cm behind the mirror, grown over it from a patch off to the side,
+  // claims them too; that claim makes them no points another reflection may explain. A pane whose
+  // own patch covers them does.
+  const core::Sweep sweep = wallBehindAMirrorFacingAWall();
+  core::ReflectiveObject pane = grownPane(2.3f, 3.0f, 3.0f, 0.2f);
+  pane.id = 1;
+  pane.patch_centre = Eigen::Vector3f(2.3f, 1.2f, 0.0f);
+  std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::mirror), pane };
+  std::map<Label, std::size_t> counts = behindTheMirror(sweep, objects);
+  EXPECT_GT(counts[Label::behindTransparent], 40u);
+  EXPECT_EQ(counts[Label::behindReflective], 0u);
+  objects[1].grown = false;
+  counts = behindTheMirror(sweep, objects);
+  EXPECT_GT(counts[Label::behindReflective], 40u);
+}
+
+// All around the sensor, 1 degree steps, elevations -45 to 45 degrees: a wall at x = -3 behind it
+// and one at x = 5 ahead (behind a pane at x = 1, reflected across it, a point of that wall lands
+// on the wall behind the sensor, as a phantom's would). Lambertian intensities (1000 cos / r^2),
+// those of the wall ahead times `ahead_share`: what it keeps against the wall it lands on.
+core::Sweep wallsAheadAndBehind(float ahead_share)
+{
+  return test::gridSweep(91, 360, -45.0f, 1.0f, 0.0f, 0.0f, 1.0f, [&](const Eigen::Vector3f& direction) {
+    const float at = direction.x() > 0.0f ? 5.0f : -3.0f;
+    const float range = at / direction.x();
+    const float share = direction.x() > 0.0f ? ahead_share : 1.0f;
+    return std::make_pair(Eigen::Vector3f(range * direction),
+                          share * 1000.0f * std::fabs(direction.x()) / (range * range));
+  });
+}
+
+TEST(ConeLabelling, BehindAGrownPanesPartALandingPointIsAReflectionOnlyWhenFaint)
+{
+  // A pane grown to 2 x 1 m from a 0.2 m patch. Away from perpendicular incidence real points
+  // behind a pane land on seen geometry by coincidence, and reflections in glass keep a few per
+  // cent of the light: there a landing point is a reflection only when it kept less than 0.08 of
+  // what it lands on. In the patch the landing alone decides, as behind every object.
+  for (const float share : { 0.5f, 0.03f })
+  {
+    const core::Sweep sweep = wallsAheadAndBehind(share);
+    std::vector<core::ReflectiveObject> objects{ grownPane(1.0f, 2.0f, 1.0f, 0.2f) };
+    const Labelled out = label(sweep, objects);
+    std::size_t in_patch = 0, beyond = 0;
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      if (out.assignment.echoes[0][i] != 0)
+        continue;
+      const Eigen::Vector3f crossing = sweep.echoes[0].points[i] / sweep.echoes[0].points[i].x();
+      const bool through_patch = std::fabs(crossing.y()) <= 0.1f && std::fabs(crossing.z()) <= 0.1f;
+      const bool clearly_beyond = std::fabs(crossing.y()) > 0.2f || std::fabs(crossing.z()) > 0.2f;
+      if (through_patch)
+      {
+        ++in_patch;
+        EXPECT_EQ(out.labels.echoes[0][i], Label::behindReflective) << "share " << share;
+      }
+      else if (clearly_beyond)
+      {
+        ++beyond;
+        EXPECT_EQ(out.labels.echoes[0][i], share < 0.08f ? Label::behindReflective : Label::behindTransparent)
+            << "share " << share << " crossing " << crossing.transpose();
+      }
+    }
+    EXPECT_GT(in_patch, 20u);
+    EXPECT_GT(beyond, 1000u);
+  }
+}
+
 TEST(ConeLabelling, CountsSurfaceAndBehindPointsAndAveragesSurfaceIntensity)
 {
   core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.0f, 0.0f }, { 3.0f, 0.0f, 0.0f } },
