@@ -251,9 +251,9 @@ int main(int argc, char** argv)
                     percentile(samples[s], 0.5), percentile(samples[s], 0.95));
       std::printf("}");
       {
-        // The same sweep with extent growth on (grow_objects): the object stages' time and the
-        // reflection chains' (max_reflections as in hokuyoParams) beside the whole pipeline's,
-        // same repeats.
+        // The same sweep with extent growth of mirrors too (grow_objects 1; the defaults grow
+        // panes only): the object stages' time and the reflection chains' (max_reflections as in
+        // hokuyoParams) beside the whole pipeline's, same repeats.
         core::Params grow_params = hokuyoParams();
         grow_params.grow_objects = 1;
         core::Pipeline growing(grow_params);

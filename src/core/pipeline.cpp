@@ -77,11 +77,10 @@ std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& co
   // Before the growth stages, which grow mirrors and panes by their type.
   if (configs.intensity.enabled)
     stages.push_back(std::make_unique<IntensityEvidence>(configs.intensity));
-  if (configs.growth.enabled)
-  {
+  if (configs.growth.mirrors)
     stages.push_back(std::make_unique<MirrorGrowth>(configs.growth));
+  if (configs.growth.panes)
     stages.push_back(std::make_unique<GlassGrowth>(configs.growth));
-  }
   if (configs.object_map.enabled)
     stages.push_back(std::make_unique<PostFilter>(object_map));
   return stages;

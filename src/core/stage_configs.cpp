@@ -65,7 +65,8 @@ StageConfigs stageConfigs(const Params& params)
   configs.cone_labelling = ConeLabellingConfig{ params.plane_threshold, params.vision_cone_margin };
   configs.phantom_planes.enabled = params.phantom_plane_share > 0.0;
   configs.phantom_planes.min_share = static_cast<float>(params.phantom_plane_share);
-  configs.growth.enabled = params.grow_objects != 0;
+  configs.growth.panes = params.grow_objects >= 1;
+  configs.growth.mirrors = params.grow_objects == 1;
   configs.growth.plane_threshold = static_cast<float>(params.plane_threshold);
   configs.growth.max_growth = static_cast<float>(params.growth_max_extent);
   configs.reflection_chains.max_reflections = params.max_reflections;

@@ -32,7 +32,8 @@ struct Detected
 inline core::ObjectGrowthConfig growthConfig()
 {
   core::ObjectGrowthConfig config;
-  config.enabled = true;
+  config.panes = true;
+  config.mirrors = true;
   config.plane_threshold = 0.05f;
   config.max_growth = 1.5f;
   return config;

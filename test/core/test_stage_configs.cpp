@@ -44,10 +44,17 @@ TEST(StageConfigs, EachStageGetsItsOwnValuesFromTheParameters)
   EXPECT_EQ(c.object_type.icp_min_inlier_fraction, p.icp_min_inlier_fraction);
   EXPECT_EQ(c.cone_labelling.plane_threshold, p.plane_threshold);
   EXPECT_EQ(c.cone_labelling.cone_margin, p.vision_cone_margin);
-  EXPECT_TRUE(c.growth.enabled);
+  EXPECT_TRUE(c.growth.panes);
+  EXPECT_EQ(c.growth.mirrors, p.grow_objects == 1);
   EXPECT_FLOAT_EQ(c.growth.plane_threshold, static_cast<float>(p.plane_threshold));
   EXPECT_FLOAT_EQ(c.growth.max_growth, static_cast<float>(p.growth_max_extent));
-  EXPECT_FALSE(core::stageConfigs(core::Params()).growth.enabled);
+  // The defaults grow panes only; 0 grows nothing (the paper's method).
+  EXPECT_TRUE(core::stageConfigs(core::Params()).growth.panes);
+  EXPECT_FALSE(core::stageConfigs(core::Params()).growth.mirrors);
+  core::Params paper;
+  paper.grow_objects = 0;
+  EXPECT_FALSE(core::stageConfigs(paper).growth.panes);
+  EXPECT_FALSE(core::stageConfigs(paper).growth.mirrors);
 }
 
 bool differsIn(const core::FeatureModel& a, const core::FeatureModel& b)
@@ -94,7 +101,8 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.cone_labelling.cone_margin != before.cone_labelling.cone_margin ||
         after.phantom_planes.enabled != before.phantom_planes.enabled ||
         after.phantom_planes.min_share != before.phantom_planes.min_share ||
-        after.growth.enabled != before.growth.enabled || after.growth.max_growth != before.growth.max_growth ||
+        after.growth.panes != before.growth.panes ||
+        after.growth.mirrors != before.growth.mirrors || after.growth.max_growth != before.growth.max_growth ||
         after.reflection_chains.max_reflections != before.reflection_chains.max_reflections ||
         after.object_map.enabled != before.object_map.enabled ||
         after.object_map.merge_distance != before.object_map.merge_distance ||

@@ -2,7 +2,8 @@
 (fixed_from_sweep, 4 x 4), the map objects in the fixed frame, the map file. No ROS, no master.
 
 The window pane of pane_in_wall gives a surface echo only near the perpendicular: sweeps from
-places 0.25 m apart along the wall each see another patch of it, and the map's one object grows.
+places 0.25 m apart along the wall each see another patch of it, and the map's one object grows
+(with grow_objects 0, the paper's patches; by default each sweep grows the pane to its frame).
 """
 import numpy as np
 import pytest
@@ -34,7 +35,7 @@ def pane_sweeps():
 
 
 def test_a_map_object_keeps_its_id_and_grows_over_sweeps_in_the_fixed_frame(pane_sweeps):
-    pipeline = core.Pipeline(post_filter=1)
+    pipeline = core.Pipeline(post_filter=1, grow_objects=0)
     widths = []
     for k, (sweep, pose) in enumerate(pane_sweeps):
         pipeline.filter(sweep.echo1, sweep.echo2, pose=fixed_from_sweep(pose))
@@ -46,6 +47,16 @@ def test_a_map_object_keeps_its_id_and_grows_over_sweeps_in_the_fixed_frame(pane
         np.testing.assert_allclose(objects[0]['corners'][:, 0], 5.0, atol=0.05)  # the pane's plane in the world
         widths.append(objects[0]['width'])
     assert widths[0] + 0.1 < widths[1] < widths[2] - 0.1 and widths[2] <= 2.4, widths
+
+
+def test_with_the_defaults_the_first_sweep_already_maps_the_whole_pane(pane_sweeps):
+    # The 2.4 m pane, grown to its frame in the sweep itself (grow_objects 2).
+    pipeline = core.Pipeline(post_filter=1)
+    sweep, pose = pane_sweeps[0]
+    pipeline.filter(sweep.echo1, sweep.echo2, pose=fixed_from_sweep(pose))
+    objects = pipeline.map_objects(viewpoint=pose.position)
+    assert [o['type_name'] for o in objects] == ['glass']
+    assert 2.3 <= objects[0]['width'] <= 2.45, objects[0]['width']
 
 
 def test_without_a_pose_or_with_post_filter_off_nothing_is_kept(pane_sweeps):

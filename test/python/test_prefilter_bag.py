@@ -435,7 +435,8 @@ def test_sensor_frame_without_the_transform_is_reported(binary, ros_messages, tm
 
 def test_post_filter_takes_each_sweeps_pose_from_the_bags_tf(binary, ros_messages, tmp_path):
     """Three sweeps of pane_in_wall from places 0.25 m apart, their poses odom <- laser on /tf: one
-    map object in odom that keeps its id and grows, written to /prefilter/map_objects per sweep."""
+    map object in odom that keeps its id and grows, written to /prefilter/map_objects per sweep
+    (each sweep's patch only, grow_objects 0: by default a sweep grows the pane to its frame)."""
     import rosbag
     import rospy
     from ohm_mirror_detector3d import scene as scenes, scanner, simulate
@@ -454,7 +455,7 @@ def test_post_filter_takes_each_sweeps_pose_from_the_bags_tf(binary, ros_message
                                                         (0.0, 0.0, np.sin(yaw / 2), np.cos(yaw / 2)), 'odom', 'laser'),
                       rospy.Time.from_sec(1000.0 + k))
     params = tmp_path / 'post_filter.yaml'
-    params.write_text('input_mode: pair\npost_filter: 1\nfixed_frame: odom\n')
+    params.write_text('input_mode: pair\npost_filter: 1\nfixed_frame: odom\ngrow_objects: 0\n')
     p = run(binary, in_bag, out_bag, '--params', params)
     assert 'sweeps processed: 3' in p.stderr and 'sweeps dropped:   0' in p.stderr, p.stderr
     maps = [msg for _, msg, _ in read_all(out_bag, ['/prefilter/map_objects'])]

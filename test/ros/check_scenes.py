@@ -194,10 +194,13 @@ class Scenes(unittest.TestCase):
         self.assertTrue(found, 'the glass door was not found')
         for match in found:
             self.assertEqual(match['detected_type'], GLASS, match)
-        # The filter makes no phantom of its own: nothing is labelled behind a mirror and moved.
-        self.assertEqual(labelled_as(r, 'behind_reflective'), 0)
-        # What is behind the glass goes to mapping (a few isolated far returns are outliers).
+        # The filter makes next to no phantom of its own (this glass reflects nothing). Behind the
+        # part of the door grown beyond its surface-echo patch, a real point that lands on seen
+        # geometry and is far fainter than what it lands on is taken for a reflection: one point
+        # of the thousands behind the door does so by chance (README, "Extent growth").
         behind = r['ground_truth_counts']['behind_transparent']
+        self.assertLessEqual(labelled_as(r, 'behind_reflective'), 0.001 * behind)
+        # What is behind the glass goes to mapping (a few isolated far returns are outliers).
         self.assertLessEqual(r['real_lost_by_label'].get('behind_transparent', 0), 0.005 * behind)
 
     def test_experiment3_both_mirrors_found_within_2cm(self):

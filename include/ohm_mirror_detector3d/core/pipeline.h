@@ -4,7 +4,7 @@
 //     (the objects and why);
 //   object stages: an ordered list of optional stages on whole objects (object_stage.h): first
 //     those the parameters switch on (phantom_plane_share: phantom_planes.h; grow_objects:
-//     mirror_growth.h, glass_growth.h), built here from Params for every front end alike, then
+//     glass_growth.h, and mirror_growth.h with 1), built here from Params for every front end alike, then
 //     any added with addObjectStage;
 //   label: cone labelling, reflection chains (where each phantom really is, reflection_chains.h),
 //     cleaned output with back-projection.

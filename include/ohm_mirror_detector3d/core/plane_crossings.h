@@ -22,7 +22,8 @@ namespace core
 {
 struct ObjectGrowthConfig
 {
-  bool enabled = false;         // grow_objects
+  bool panes = false;           // grow_objects >= 1
+  bool mirrors = false;         // grow_objects == 1
   float plane_threshold = 0.05f;  // d_thres_plane [m]: a return this near the plane lies on it
   float max_growth = 1.5f;      // growth_max_extent [m]: how far beyond its patch an extent may grow on each side
 };
