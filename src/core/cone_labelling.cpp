@@ -113,24 +113,22 @@ bool faintReflectionInGrownPane(const ReflectiveObject& object, const Eigen::Vec
 // Two objects in one plane (3 deg, 10 cm at the second's centre): two detections of one pane.
 bool samePlane(const ReflectiveObject& a, const ReflectiveObject& b)
 {
-  return std::fabs(a.plane.head<3>().dot(b.plane.head<3>())) >= 0.9986f && std::fabs(a.signedDistance(b.centre)) <= 0.1f;
+  return a.sharesPlaneWith(b, 0.9986f, 0.1f);
 }
 
-// Where the rays cross a grown pane's plane, its patch (with the cone's margin), for the rules
-// above; `grown` is false for every other object.
+// A grown pane's surface-echo patch (with the cone's margin), for the rules above; `grown` is
+// false for every other object.
 struct PanePatch
 {
   bool grown = false;
-  Eigen::Vector3f origin = Eigen::Vector3f::Zero();
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();
   Eigen::Vector3f width_axis = Eigen::Vector3f::UnitX();
   Eigen::Vector3f height_axis = Eigen::Vector3f::UnitY();
   float half_width = 0.0f, half_height = 0.0f;
 
   PanePatch() = default;
-  PanePatch(const ReflectiveObject& object, const Eigen::Vector3f& sensor_origin, float margin)
+  PanePatch(const ReflectiveObject& object, float margin)
     : grown(object.grown && object.type == ObjectType::glass)
-    , origin(sensor_origin)
     , centre(object.patch_centre)
     , width_axis(object.width_axis)
     , height_axis(object.height_axis)
@@ -141,16 +139,15 @@ struct PanePatch
 
   float area() const { return half_width * half_height; }
 
-  // Whether the ray from the origin to p crosses the plane beyond the patch (false for an object
-  // not grown; a point on the plane crosses it where it lies).
-  bool beyond(const ReflectiveObject& object, const Eigen::Vector3f& p) const
+  // Whether a ray that crosses the pane's plane at `crossing` (ConeHit::crossing, the cone's own)
+  // crosses it beyond the patch; false for an object not grown. (A pane grows only with the
+  // sensor clear of its surface band, PlaneCrossings::build, so every point its cone holds has
+  // its crossing on the ray.)
+  bool beyond(const Eigen::Vector3f& crossing) const
   {
     if (!grown)
       return false;
-    const float origin_side = object.signedDistance(origin), point_side = object.signedDistance(p);
-    if (!(origin_side > point_side))
-      return false;
-    const Eigen::Vector3f offset = origin + (origin_side / (origin_side - point_side)) * (p - origin) - centre;
+    const Eigen::Vector3f offset = crossing - centre;
     return !(std::fabs(offset.dot(width_axis)) <= half_width && std::fabs(offset.dot(height_axis)) <= half_height);
   }
 };
@@ -406,7 +403,7 @@ ConeClaim claimOf(const Eigen::Vector3f& p, const std::vector<std::size_t>& reac
     const ConeHit hit = cones[j].locate(p);
     if (hit.relation != ConeRelation::onSurface && hit.relation != ConeRelation::behind)
       continue;
-    const bool beyond = patches[j].beyond(objects[j], p);
+    const bool beyond = patches[j].beyond(hit.crossing);
     if (beyond && hit.relation == ConeRelation::onSurface)
       continue;  // no echo of the pane
     ++claim.affecting;
@@ -689,7 +686,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   for (const ReflectiveObject& object : objects)
   {
     cones.emplace_back(object, sensor_origin, plane_threshold, margin);
-    patches.emplace_back(object, sensor_origin, margin);
+    patches.emplace_back(object, margin);
   }
   ChainCones chains(objects, sensor_origin, plane_threshold, margin);
   std::vector<ConeBounds> bounds;

@@ -52,8 +52,7 @@ std::vector<const ReflectiveObject*> mirrorsBeside(const ReflectiveObject& pane,
   std::vector<const ReflectiveObject*> mirrors;
   for (const ReflectiveObject& other : objects)
     if (&other != &pane && other.type == ObjectType::mirror &&
-        std::fabs(other.plane.head<3>().dot(pane.plane.head<3>())) >= kSamePlaneCosine &&
-        std::fabs(pane.signedDistance(other.centre)) <= kSamePlaneBand)
+        pane.sharesPlaneWith(other, kSamePlaneCosine, kSamePlaneBand))
       mirrors.push_back(&other);
   return mirrors;
 }

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -166,6 +167,14 @@ struct ReflectiveObject
   Eigen::Vector3f reflect(const Eigen::Vector3f& p) const
   {
     return p - 2.0f * signedDistance(p) * plane.head<3>();
+  }
+
+  // Whether `other` lies in this object's plane: their normals within acos(min_cosine) of each
+  // other (either way round), other's centre within max_distance of this plane.
+  bool sharesPlaneWith(const ReflectiveObject& other, float min_cosine, float max_distance) const
+  {
+    return std::fabs(plane.head<3>().dot(other.plane.head<3>())) >= min_cosine &&
+           std::fabs(signedDistance(other.centre)) <= max_distance;
   }
 
 };

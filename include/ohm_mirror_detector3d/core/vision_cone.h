@@ -24,6 +24,7 @@ struct ConeHit
 {
   ConeRelation relation = ConeRelation::outside;
   float plane_range = 0.0f;  // distance from the origin to where the ray crosses the plane
+  Eigen::Vector3f crossing = Eigen::Vector3f::Zero();  // that crossing (onSurface and behind only)
 };
 
 // One object's vision cone with everything that does not depend on the point worked out
@@ -74,6 +75,7 @@ public:
       return hit;
     hit.relation = point_side >= -plane_threshold_ ? ConeRelation::onSurface : ConeRelation::behind;
     hit.plane_range = (crossing - origin_).norm();
+    hit.crossing = crossing;
     return hit;
   }
 
