@@ -123,6 +123,41 @@ bool isRepeatedReturn(const Sweep& sweep, std::size_t k, std::size_t i)
   return k == 1 && sweep.echoes[1].points[i] == sweep.echoes[0].points[i];
 }
 
+// Calls visit(k, i, p, side) for every return p = echo k of beam i (not nanPoint, not a repeated
+// single return) that lies behind the object's plane inside its vision cone, `side` its signed
+// distance to the plane. With `boxes` (the blocks' bounding boxes of this sweep, beginSweep), a
+// block wholly in front of the plane's surface band is skipped whole.
+template <typename Visit>
+void forEachPointBehind(const Sweep& sweep, const SweepLabels& labels, const VisionCone& cone,
+                        const ReflectiveObject& object, float plane_threshold,
+                        const std::array<std::vector<Eigen::AlignedBox3f>, 2>* boxes, Visit visit)
+{
+  const Eigen::Vector3f normal = object.plane.head<3>();
+  const float plane_offset = object.plane[3];
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < beams; ++i)
+    {
+      if (boxes != nullptr && i % kBlockBeams == 0)
+      {
+        const Eigen::AlignedBox3f& box = (*boxes)[k][i / kBlockBeams];
+        if (box.isEmpty() || minSide(box, normal, plane_offset) > -plane_threshold + kBlockSlack)
+        {
+          i += kBlockBeams - 1;
+          continue;
+        }
+      }
+      if (labels.echoes[k][i] == Label::nanPoint || isRepeatedReturn(sweep, k, i))
+        continue;
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      // Most points are in front of the plane: skip them before the cone test.
+      const float point_side = cone.side(p);
+      if (!(point_side < -plane_threshold) || cone.locate(p).relation != ConeRelation::behind)
+        continue;
+      visit(k, i, p, point_side);
+    }
+}
+
 // Cells of the landing box (at least icp_max_distance wide) within two cells of a sampled
 // mirrored point: the only places where ICP (which moves the phantoms by at most
 // icp_max_distance for a mirror) and the refinement look for real points. A room-sized box
@@ -253,7 +288,6 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   Buffers& b = *buffers_;
   const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
   const Eigen::Vector3f normal = object.plane.head<3>();
-  const float plane_offset = object.plane[3];
   TypeEvidence& result = object.evidence;
   result = TypeEvidence();
   object.type = ObjectType::unknown;
@@ -280,37 +314,18 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   const float origin_side = object.signedDistance(sensor_origin);
   const float inside_width = 0.5f * object.width - std::min(kTypeBorder, 0.25f * object.width);
   const float inside_height = 0.5f * object.height - std::min(kTypeBorder, 0.25f * object.height);
-  const std::size_t beams = sweep.beamCount();
-  for (std::size_t k = 0; k < 2; ++k)
-  {
-    const std::vector<float>& intensities = sweep.echoes[k].intensities;
-    for (std::size_t i = 0; i < beams; ++i)
-    {
-      // A block whose box lies wholly in front of the plane's surface band has no point behind.
-      if (blocked && i % kBlockBeams == 0)
-      {
-        const Eigen::AlignedBox3f& box = b.block_boxes[k][i / kBlockBeams];
-        if (box.isEmpty() || minSide(box, normal, plane_offset) > -plane_threshold + kBlockSlack)
-        {
-          i += kBlockBeams - 1;
-          continue;
-        }
-      }
-      if (labels.echoes[k][i] == Label::nanPoint || isRepeatedReturn(sweep, k, i))
-        continue;
-      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-      // Most points are in front of the plane: skip them before the cone test.
-      const float point_side = cone.side(p);
-      if (!(point_side < -plane_threshold) || cone.locate(p).relation != ConeRelation::behind)
-        continue;
-      const Eigen::Vector3f crossing =
-          sensor_origin + (origin_side / (origin_side - point_side)) * (p - sensor_origin) - object.centre;
-      b.all_behind.push_back(p);
-      b.all_intensity.push_back(i < intensities.size() ? intensities[i] : std::numeric_limits<float>::quiet_NaN());
-      b.all_inside.push_back(std::fabs(crossing.dot(object.width_axis)) <= inside_width &&
-                             std::fabs(crossing.dot(object.height_axis)) <= inside_height);
-    }
-  }
+  forEachPointBehind(sweep, labels, cone, object, plane_threshold, blocked ? &b.block_boxes : nullptr,
+                     [&](std::size_t k, std::size_t i, const Eigen::Vector3f& p, float point_side) {
+                       const std::vector<float>& intensities = sweep.echoes[k].intensities;
+                       const Eigen::Vector3f crossing = sensor_origin +
+                                                        (origin_side / (origin_side - point_side)) * (p - sensor_origin) -
+                                                        object.centre;
+                       b.all_behind.push_back(p);
+                       b.all_intensity.push_back(i < intensities.size() ? intensities[i] :
+                                                                          std::numeric_limits<float>::quiet_NaN());
+                       b.all_inside.push_back(std::fabs(crossing.dot(object.width_axis)) <= inside_width &&
+                                              std::fabs(crossing.dot(object.height_axis)) <= inside_height);
+                     });
   const std::size_t total = b.all_behind.size();
   result.mirrored_points = total;
   if (total < min_points)
@@ -480,6 +495,49 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
     object.type = ObjectType::mirror;
     result.typed_by_bright_phantoms = true;
   }
+}
+
+bool ObjectTypeAnalyzer::refineGrownPlane(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+                                          const SweepLabels& labels, const ReflectionEvidence& evidence,
+                                          ReflectiveObject& object)
+{
+  Buffers& b = *buffers_;
+  const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
+  const float plane_threshold = static_cast<float>(config_.plane_threshold);
+  const std::size_t min_points = static_cast<std::size_t>(config_.icp_min_points);
+  b.surface.clear();
+  for (const PointRef& ref : object.surface_inliers)
+    b.surface.push_back(sweep.echoes[ref.echo].points[ref.beam]);
+
+  // The points behind the grown rectangle (inside its vision cone), as analyze() gathers them.
+  b.all_behind.clear();
+  const VisionCone cone(object, sensor_origin, plane_threshold, static_cast<float>(config_.cone_margin));
+  forEachPointBehind(sweep, labels, cone, object, plane_threshold, blocked ? &b.block_boxes : nullptr,
+                     [&](std::size_t, std::size_t, const Eigen::Vector3f& p, float) { b.all_behind.push_back(p); });
+  const std::size_t total = b.all_behind.size();
+  if (total < min_points)
+    return false;
+  const std::size_t samples = std::min(total, kMaxSamples);
+  b.landed.clear();
+  for (std::size_t s = 0; s < samples; ++s)
+  {
+    const Eigen::Vector3f& p = b.all_behind[(2 * s + 1) * total / (2 * samples)];
+    const ReflectionOutcome outcome = evidence.test(object.plane, p, object.landing_tolerance).outcome;
+    if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::ambiguous)
+      b.landed.push_back(p);
+  }
+  const double weight = static_cast<double>(total) / static_cast<double>(samples);
+  if (static_cast<double>(b.landed.size()) * weight < static_cast<double>(min_points) || b.landed.size() < 3)
+    return false;
+  const Eigen::Vector3f before = object.plane.head<3>();
+  const PlaneRefinement refinement = refinePlane(sweep, labels, sensor_origin, weight, object);
+  if (!refinement.refined)
+    return false;
+  object.evidence.plane_refined = true;
+  object.evidence.plane_correction = std::acos(std::min(1.0f, std::fabs(before.dot(object.plane.head<3>()))));
+  object.landing_tolerance.per_behind =
+      2.0f * kPlaneSigmas * std::min(kMaxTiltUncertainty, std::max(kMinTiltUncertainty, refinement.angle_uncertainty));
+  return true;
 }
 
 PlaneRefinement ObjectTypeAnalyzer::refinePlane(const Sweep& sweep, const SweepLabels& labels,

@@ -1,6 +1,7 @@
 #include "ohm_mirror_detector3d/core/pipeline.h"
 
 #include "ohm_mirror_detector3d/core/glass_growth.h"
+#include "ohm_mirror_detector3d/core/grown_pane_refinement.h"
 #include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/mirror_growth.h"
 #include "ohm_mirror_detector3d/core/phantom_planes.h"
@@ -68,7 +69,8 @@ void countRemoved(const std::vector<std::uint8_t>& marks, const SweepLabels& lab
 // The object stages the parameters switch on, in the order they run: the one place where the
 // nodelet, prefilter_bag and the Python API get them from.
 // The post-filter comes last: it merges what the sweep grew.
-std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& configs, ObjectMap& object_map)
+std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& configs, ObjectMap& object_map,
+                                                          ObjectTypeAnalyzer& type_analyzer)
 {
   std::vector<std::unique_ptr<ObjectStage>> stages;
   // First: an object made of another's phantoms is no surface, to grow or to type by intensity.
@@ -80,7 +82,10 @@ std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& co
   if (configs.growth.mirrors)
     stages.push_back(std::make_unique<MirrorGrowth>(configs.growth));
   if (configs.growth.panes)
+  {
     stages.push_back(std::make_unique<GlassGrowth>(configs.growth));
+    stages.push_back(std::make_unique<GrownPaneRefinement>(type_analyzer));
+  }
   if (configs.object_map.enabled)
     stages.push_back(std::make_unique<PostFilter>(object_map));
   return stages;
@@ -128,7 +133,7 @@ Pipeline::Pipeline(const Params& params)
   , configs_(stageConfigs(params_))
   , stages_(configs_)
   , object_map_(configs_.object_map)
-  , parameter_stages_(parameterStages(configs_, object_map_))
+  , parameter_stages_(parameterStages(configs_, object_map_, stages_.type_analyzer))
 {
 }
 
@@ -138,7 +143,7 @@ void Pipeline::setParams(const Params& params)
   Stages stages(configs);
   stages_ = std::move(stages);
   object_map_.setConfig(configs.object_map);
-  parameter_stages_ = parameterStages(configs, object_map_);
+  parameter_stages_ = parameterStages(configs, object_map_, stages_.type_analyzer);
   configs_ = configs;
   params_ = params;
 }

@@ -59,6 +59,15 @@ public:
   // object until its points change: call it again for every sweep (Pipeline does).
   void beginSweep(const Sweep& sweep);
 
+  // Refines the plane of an object that an object stage grew, the way analyze() does (the same
+  // sample, landing test and refinement, surface echoes and all), from the points behind its
+  // grown rectangle: a pane's patch of surface echoes is often a small spot, its plane fitted a
+  // degree or more off, and analyze() sees only what lies behind that spot. Leaves the object
+  // as it is, and returns false, when too few of those points land on seen geometry or the
+  // refinement is refused (MirrorPlaneRefinement). Its type is not decided again.
+  bool refineGrownPlane(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
+                        const ReflectionEvidence& evidence, ReflectiveObject& object);
+
 private:
   // Refines object's plane from buffers_->landed (points behind that land on seen geometry).
   PlaneRefinement refinePlane(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
