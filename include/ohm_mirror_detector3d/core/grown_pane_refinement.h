@@ -10,7 +10,10 @@
 // Phantoms a metre or more behind a pane are back-projected across its plane, and 1 degree off
 // puts them 3-4 cm off for every metre: measured on random scenes 7000-7019, a 0.95 x 1.23 m
 // pane 0.8 m from the 128-ring lidar, its plane 0.83 deg off, left 1731 of its phantoms 7-8 cm
-// from where they belong (0.02 deg and 105 after this stage).
+// from where they belong (after this stage: 0.02 deg, and 3). What lands behind a pane by
+// coincidence can turn its plane the wrong way: behind the glass door of experiment 2, passed by
+// the rotating Hokuyo with the post-filter, 0.7-1.3 deg about the vertical in two sweeps (README,
+// Stop 33).
 #pragma once
 
 #include <vector>
