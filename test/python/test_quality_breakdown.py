@@ -28,3 +28,18 @@ def test_the_breakdown_counts_what_the_evaluator_counts():
     assert b['counts']['double-echo phantoms'] == counts['double_echo_phantoms']
     # Every ground-truth object with enough surface echoes appears once in the type confusion.
     assert len(b['types']) == metrics.type_accuracy([score], ev.MIN_SURFACE_POINTS)['objects']
+
+
+def test_the_scenes_by_loss_account_for_every_phantom_at_a_wrong_place_worst_first():
+    breakdown = SourceFileLoader('quality_breakdown', SCRIPT).load_module()
+    pipeline = core.Pipeline()
+    per_scene = [(case.scene, breakdown.breakdown(case, pipeline))
+                 for case in ev.cases(['hesai_qt64'], 2, 3, named=False)]
+    rows = breakdown.scenes_by_loss(per_scene)
+    assert [row[0] for row in rows] == sorted((scene for scene, _ in per_scene),
+                                              key=lambda scene: -sum(dict(per_scene)[scene]['phantom'].values()))
+    assert sum(row[2] for row in rows) == sum(sum(b['phantom'].values()) for _, b in per_scene)
+    assert rows[0][2] > 0, 'no scene with phantoms at a wrong place to rank'
+    for scene, phantoms, wrong, groups in rows:
+        assert wrong <= phantoms
+        assert sum(n for _, n in groups) <= wrong
