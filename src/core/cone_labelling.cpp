@@ -516,9 +516,8 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
       if (affecting == 1)
       {
         const Eigen::Vector3f& p = echo.points[i];
-        const float origin_side = object.signedDistance(origin), point_side = object.signedDistance(p);
-        const Eigen::Vector3f crossing = origin + (origin_side / (origin_side - point_side)) * (p - origin);
-        options.check_path = !chains.mayContinue(static_cast<std::size_t>(nearest), object.reflect(p), crossing);
+        options.check_path =
+            !chains.mayContinue(static_cast<std::size_t>(nearest), object.reflect(p), object.rayCrossing(origin, p));
       }
       const ReflectionTest test = evidence.get().test(object.plane, echo.points[i], object.landing_tolerance, options);
       const ReflectionOutcome outcome = test.outcome;

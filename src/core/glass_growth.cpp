@@ -83,17 +83,13 @@ void GlassGrowth::process(const Sweep& sweep, const SweepContext& context, const
     // crossed the plane there without a return on it; but not where they crossed it inside a
     // mirror in the same plane.
     const std::vector<const ReflectiveObject*> mirrors = mirrorsBeside(object, objects);
-    const Eigen::Vector3f normal = object.plane.head<3>();
-    const float origin_side = normal.dot(origin) + object.plane[3];
     const GrownExtent extent = crossings_.grow([&](const std::vector<PointRef>& points) {
       if (mirrors.empty())
         return true;
       std::size_t inside = 0;
       for (const PointRef& ref : points)
       {
-        const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
-        const float side = normal.dot(p) + object.plane[3];
-        const Eigen::Vector3f crossing = origin + (origin_side / (origin_side - side)) * (p - origin);
+        const Eigen::Vector3f crossing = object.rayCrossing(origin, sweep.echoes[ref.echo].points[ref.beam]);
         for (const ReflectiveObject* mirror : mirrors)
           if (insideRectangle(*mirror, crossing))
           {

@@ -287,7 +287,6 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
 {
   Buffers& b = *buffers_;
   const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
-  const Eigen::Vector3f normal = object.plane.head<3>();
   TypeEvidence& result = object.evidence;
   result = TypeEvidence();
   object.type = ObjectType::unknown;
@@ -368,20 +367,8 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   for (std::size_t s = 0; s < samples; ++s)
     if (lands(b.tests[s]))
       b.landed.push_back(b.sample[s]);
-  if (static_cast<double>(b.landed.size()) * weight >= static_cast<double>(min_points) && b.landed.size() >= 3)
-  {
-    const Eigen::Vector3f before = normal;
-    const PlaneRefinement refinement = refinePlane(sweep, labels, sensor_origin, weight, object);
-    if (refinement.refined)
-    {
-      result.plane_refined = true;
-      result.plane_correction = std::acos(std::min(1.0f, std::fabs(before.dot(object.plane.head<3>()))));
-      object.landing_tolerance.per_behind =
-          2.0f * kPlaneSigmas *
-          std::min(kMaxTiltUncertainty, std::max(kMinTiltUncertainty, refinement.angle_uncertainty));
-      testSample();
-    }
-  }
+  if (refineFromLanded(sweep, labels, sensor_origin, weight, object))
+    testSample();
 
   // What the sample said.
   std::size_t counts[kReflectionOutcomeCount] = {};
@@ -526,8 +513,15 @@ bool ObjectTypeAnalyzer::refineGrownPlane(const Sweep& sweep, const Eigen::Vecto
     if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::ambiguous)
       b.landed.push_back(p);
   }
-  const double weight = static_cast<double>(total) / static_cast<double>(samples);
-  if (static_cast<double>(b.landed.size()) * weight < static_cast<double>(min_points) || b.landed.size() < 3)
+  return refineFromLanded(sweep, labels, sensor_origin, static_cast<double>(total) / static_cast<double>(samples),
+                          object);
+}
+
+bool ObjectTypeAnalyzer::refineFromLanded(const Sweep& sweep, const SweepLabels& labels,
+                                          const Eigen::Vector3f& sensor_origin, double weight, ReflectiveObject& object)
+{
+  const Buffers& b = *buffers_;
+  if (static_cast<double>(b.landed.size()) * weight < static_cast<double>(config_.icp_min_points) || b.landed.size() < 3)
     return false;
   const Eigen::Vector3f before = object.plane.head<3>();
   const PlaneRefinement refinement = refinePlane(sweep, labels, sensor_origin, weight, object);

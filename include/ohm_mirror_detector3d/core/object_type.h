@@ -69,6 +69,12 @@ public:
                         const ReflectionEvidence& evidence, ReflectiveObject& object);
 
 private:
+  // With enough of buffers_->landed (their estimated count, `weight` points each, at least
+  // icp_min_points, and 3 sampled), refines object's plane from them and records it: the
+  // evidence's plane_refined and plane_correction, the landing tolerance's tilt term. False
+  // (the object as it was) otherwise or when the refinement is refused.
+  bool refineFromLanded(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
+                        double weight, ReflectiveObject& object);
   // Refines object's plane from buffers_->landed (points behind that land on seen geometry).
   PlaneRefinement refinePlane(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
                               double weight, ReflectiveObject& object);

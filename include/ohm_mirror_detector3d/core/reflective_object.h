@@ -169,6 +169,13 @@ struct ReflectiveObject
     return p - 2.0f * signedDistance(p) * plane.head<3>();
   }
 
+  // Where the ray from `origin` through p crosses the plane (origin and p on either side of it).
+  Eigen::Vector3f rayCrossing(const Eigen::Vector3f& origin, const Eigen::Vector3f& p) const
+  {
+    const float origin_side = signedDistance(origin);
+    return origin + (origin_side / (origin_side - signedDistance(p))) * (p - origin);
+  }
+
   // Whether `other` lies in this object's plane: their normals within acos(min_cosine) of each
   // other (either way round), other's centre within max_distance of this plane.
   bool sharesPlaneWith(const ReflectiveObject& other, float min_cosine, float max_distance) const
