@@ -18,6 +18,19 @@ void ReflectionPaths::reset(std::size_t beam_count, std::size_t objects)
   children_.assign(objects * objects, kNoPath);
   for (std::vector<std::int32_t>& paths : echoes_)
     paths.assign(beam_count, kNoPath);
+  for (std::vector<ObjectAssignment::MergedEcho>& merged : merged_)
+    merged.clear();
+}
+
+Eigen::Vector3f ReflectionPaths::reflectionEcho(std::size_t echo, std::size_t beam, const Eigen::Vector3f& p) const
+{
+  const std::vector<ObjectAssignment::MergedEcho>& merged = merged_[echo];
+  if (merged.empty())
+    return p;
+  const auto found = std::lower_bound(
+      merged.begin(), merged.end(), beam,
+      [](const ObjectAssignment::MergedEcho& m, std::size_t b) { return static_cast<std::size_t>(m.beam) < b; });
+  return found != merged.end() && found->beam == beam ? found->reflection : p;
 }
 
 std::int32_t ReflectionPaths::extend(std::int32_t parent, std::int32_t object)
@@ -52,7 +65,7 @@ Eigen::Vector3f ReflectionPaths::backProject(const std::vector<ReflectiveObject>
   int length = 0;
   for (std::int32_t node = echoes_[echo][beam]; node != kNoPath; node = nodes_[static_cast<std::size_t>(node)].parent)
     chain[static_cast<std::size_t>(length++)] = nodes_[static_cast<std::size_t>(node)].object;
-  Eigen::Vector3f position = p;
+  Eigen::Vector3f position = length > 0 ? reflectionEcho(echo, beam, p) : p;
   while (length > 0)
     position = objects.at(static_cast<std::size_t>(chain[static_cast<std::size_t>(--length)])).reflect(position);
   return position;
@@ -71,6 +84,7 @@ ReflectionChainCounts ReflectionChains::apply(const Sweep& sweep, const Eigen::V
   ReflectionChainCounts counts;
   const std::size_t beams = sweep.beamCount();
   paths.reset(beams, objects.size());
+  paths.setMergedEchoes(assignment.merged_echoes);
   std::vector<std::int32_t> mirrors;
   for (std::size_t j = 0; j < objects.size(); ++j)
     if (objects[j].type == ObjectType::mirror)
@@ -98,7 +112,7 @@ ReflectionChainCounts ReflectionChains::apply(const Sweep& sweep, const Eigen::V
       // The path so far is a straight ray from `apex` (the sensor's image in the mirrors passed)
       // through `crossing` (where it left the last mirror) to `point`, which lies behind `mirror`.
       const ReflectiveObject* mirror = &objects[static_cast<std::size_t>(first)];
-      Eigen::Vector3f point = points[i];
+      Eigen::Vector3f point = paths.reflectionEcho(k, i, points[i]);
       Eigen::Vector3f apex = sensor_origin;
       const float apex_side = mirror->signedDistance(apex);
       const float point_side = mirror->signedDistance(point);

@@ -336,6 +336,7 @@ py::dict statsOf(const core::PipelineResult& r, const core::Params& params)
   stats["echo_separation"] = r.echo_separation;
   stats["multiply_reflected_phantoms"] = r.reflection_chains.multiply_reflected;
   stats["unexplained_phantoms"] = r.reflection_chains.unexplained;
+  stats["merged_echoes"] = r.assignment.merged_echoes[0].size() + r.assignment.merged_echoes[1].size();
   // A stage that removed an implausible share of the sweep, in words (core/removal_report.h).
   py::list warnings;
   for (const std::string& warning : core::removalWarnings(r.removals, params))

@@ -729,5 +729,123 @@ TEST(CleanedOutput, KeepsPointsBehindGlassInPlace)
   EXPECT_TRUE(cleaned[1].position.isApprox(Eigen::Vector3f(3.0f, 0.0f, 0.0f)));
 }
 
+// A pane at x = 2 (3 m wide, 1 m high), a pillar 0.5 m in front of it (a face at x = 1.5 with y
+// in [0.6, 1.2], |z| <= 0.2), seen directly (brightness 100), and the room seen through the pane
+// at x = 6 (brightness 900). Each beam through the pane that shows the pillar's reflection
+// (0.5 m behind the pane, within the sensor's echo separation) returns one echo of the pane's
+// surface merged with that reflection, `shortfall` short of the reflection along the beam, with
+// `brightness`; its second echo is the room seen through. A hundred and twenty beams elsewhere
+// are mixed pixels 0.9 m apart: the sweep's echo separation. `real` holds, per merged echo's
+// beam, where the pillar point it shows really is.
+struct MergedEchoes
+{
+  core::Sweep sweep;
+  std::map<std::size_t, Eigen::Vector3f> real;
+};
+
+bool onThePillar(const Eigen::Vector3f& x)
+{
+  return x.y() >= 0.6f && x.y() <= 1.2f && std::fabs(x.z()) <= 0.2f;
+}
+
+MergedEchoes mergedEchoesBehindAPane(float shortfall, float brightness)
+{
+  MergedEchoes out;
+  out.sweep = test::rangeImage({ { 0, 1.5f, onThePillar }, { 0, 6.0f, test::everywhere } });
+  core::Sweep& sweep = out.sweep;
+  sweep.has_intensity = true;
+  std::size_t mixed = 0;
+  for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+  {
+    const Eigen::Vector3f p = sweep.echoes[0].points[i];
+    if (!p.allFinite())
+      continue;
+    const float seen = p.x() > 5.9f ? 900.0f : 100.0f;
+    sweep.echoes[0].intensities[i] = sweep.echoes[1].intensities[i] = seen / p.squaredNorm();
+    const Eigen::Vector3f d = p.normalized();
+    if (p.x() > 5.9f && d.y() < -0.2f && mixed < 120)
+    {
+      // A mixed pixel: the far echo 0.9 m behind the near one.
+      sweep.echoes[1].points[i] = p + 0.9f * d;
+      ++mixed;
+      continue;
+    }
+    if (!(p.x() > 5.9f))
+      continue;  // the pillar, seen directly
+    const Eigen::Vector3f crossing = d * (2.0f / d.x());
+    if (std::fabs(crossing.y()) > 1.5f || std::fabs(crossing.z()) > 0.5f)
+      continue;
+    const float behind = 0.5f / d.x();  // along the reflected ray, to the pillar's face
+    const Eigen::Vector3f real = crossing + behind * Eigen::Vector3f(-d.x(), d.y(), d.z());
+    if (!onThePillar(real))
+      continue;
+    out.real[i] = real;
+    sweep.echoes[0].points[i] = crossing + (behind - shortfall) * d;
+    sweep.echoes[0].intensities[i] = brightness / sweep.echoes[0].points[i].squaredNorm();
+  }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return out;
+}
+
+TEST(ConeLabelling, AnEchoOfThePaneMergedWithAReflectionIsBackProjectedToWhatItShows)
+{
+  // Short of the reflection by 0.2 m, each merged echo, reflected, lies between the pillar and
+  // the pane: behind the pillar as the sensor sees it (occluded), or beside it, where the sensor
+  // saw further (seen through). Faint against what is seen through the pane, it is taken for the
+  // reflection it is merged with and back-projected to the pillar, where it lands when moved
+  // along its beam.
+  const MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 20.0f);
+  ASSERT_GT(scene.real.size(), 20u);
+  ASSERT_LT(scene.real.size(), 100u);
+  core::ReflectiveObject pane = wallObject(2.0f, 3.0f, 1.0f, ObjectType::glass);
+  pane.evidence.transmitted_brightness = 900.0f;
+  std::vector<core::ReflectiveObject> objects{ pane };
+  Labelled out = label(scene.sweep, objects);
+  core::ReflectionEvidence evidence;
+  evidence.build(scene.sweep, out.labels, Eigen::Vector3f::Zero());
+  ASSERT_NEAR(evidence.echoSeparation(), 0.9f, 0.01f);
+  EXPECT_EQ(out.assignment.merged_echoes[0].size(), scene.real.size());
+  const std::vector<core::OutputPoint> cleaned = cleanedOf(scene.sweep, objects, out);
+  std::size_t near = 0;
+  for (const core::OutputPoint& point : cleaned)
+  {
+    const auto real = scene.real.find(point.beam);
+    if (point.echo != 1 || real == scene.real.end())
+      continue;
+    EXPECT_EQ(point.label, Label::behindReflective);
+    near += (point.position - real->second).norm() < 0.05f ? 1 : 0;
+  }
+  EXPECT_GE(near, scene.real.size() * 9 / 10) << near << " of " << scene.real.size();
+}
+
+TEST(ConeLabelling, APointSeenThroughAPaneAsBrightAsTheRestStaysWhereItWasMeasured)
+{
+  // The same echoes as bright as what is seen through the pane: real points just behind it,
+  // however their reflections land when moved along their beams.
+  const MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 900.0f);
+  core::ReflectiveObject pane = wallObject(2.0f, 3.0f, 1.0f, ObjectType::glass);
+  pane.evidence.transmitted_brightness = 900.0f;
+  std::vector<core::ReflectiveObject> objects{ pane };
+  const Labelled out = label(scene.sweep, objects);
+  EXPECT_TRUE(out.assignment.merged_echoes[0].empty());
+  for (const auto& beam_and_real : scene.real)
+    EXPECT_EQ(out.labels.echoes[0][beam_and_real.first], Label::behindTransparent);
+}
+
+TEST(ConeLabelling, WithoutDoubleEchoesToShowTheSeparationNoEchoIsTakenForMerged)
+{
+  // The sensor's echo separation unknown (fewer than a hundred double echoes: only the merged
+  // echoes' beams, the mixed pixels removed), nothing says how far a merged echo may lie short.
+  MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 20.0f);
+  for (std::size_t i = 0; i < scene.sweep.beamCount(); ++i)
+    if (scene.real.count(i) == 0)
+      scene.sweep.echoes[1].points[i] = scene.sweep.echoes[0].points[i];
+  core::ReflectiveObject pane = wallObject(2.0f, 3.0f, 1.0f, ObjectType::glass);
+  pane.evidence.transmitted_brightness = 900.0f;
+  std::vector<core::ReflectiveObject> objects{ pane };
+  const Labelled out = label(scene.sweep, objects);
+  EXPECT_TRUE(out.assignment.merged_echoes[0].empty());
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

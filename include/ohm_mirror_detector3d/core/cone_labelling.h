@@ -21,6 +21,15 @@ struct ObjectAssignment
 {
   static constexpr std::int32_t kNoObject = -1;
   std::array<std::vector<std::int32_t>, 2> echoes;
+  // Per echo, in beam order: the points taken for one echo of an object's surface merged with a
+  // reflection in it (see cone_labelling.cpp, mergedReflection), each with where the reflection's
+  // own echo lies along its beam (what the reflection chains and the back-projection start from).
+  struct MergedEcho
+  {
+    std::uint32_t beam;
+    Eigen::Vector3f reflection;
+  };
+  std::array<std::vector<MergedEcho>, 2> merged_echoes;
 
   void reset(std::size_t beam_count);
 };

@@ -57,8 +57,15 @@ public:
   // The mirrors of a chain, first to last.
   std::vector<std::int32_t> mirrors(std::int32_t path) const;
 
+  // The points the cone labelling took for a surface echo merged with a reflection
+  // (ObjectAssignment::merged_echoes): their chains start from the reflection's own echo.
+  void setMergedEchoes(const std::array<std::vector<ObjectAssignment::MergedEcho>, 2>& merged) { merged_ = merged; }
+  // Where the reflection that p shows was measured from: p itself, or for a merged echo the
+  // reflection's own echo along the beam.
+  Eigen::Vector3f reflectionEcho(std::size_t echo, std::size_t beam, const Eigen::Vector3f& p) const;
+
   // p reflected across every mirror of the point's chain in order: where it really is (p itself
-  // for a point without a chain).
+  // for a point without a chain). A merged echo starts from its reflection's own echo.
   Eigen::Vector3f backProject(const std::vector<ReflectiveObject>& objects, std::size_t echo, std::size_t beam,
                               const Eigen::Vector3f& p) const;
 
@@ -73,6 +80,7 @@ private:
   std::vector<Node> nodes_;
   std::vector<std::int32_t> children_;  // nodes_.size() x objects_: the chain one mirror longer, or kNoPath
   std::array<std::vector<std::int32_t>, 2> echoes_;
+  std::array<std::vector<ObjectAssignment::MergedEcho>, 2> merged_;
 };
 
 struct ReflectionChainCounts
