@@ -504,7 +504,7 @@ bool faintAsMergedReflection(const ReflectiveObject& object, const Eigen::Vector
 // Returns the reflection's own echo (p moved along its beam to where, reflected, it lands nearest
 // to what the sensor saw), or NaN when it lands nowhere within reach.
 Eigen::Vector3f mergedReflection(const ReflectionEvidence& evidence, const ReflectiveObject& object,
-                                 const Eigen::Vector3f& p, const ReflectionTestOptions& options)
+                                 const Eigen::Vector3f& p)
 {
   const Eigen::Vector3f nowhere = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
   const float separation = evidence.echoSeparation();
@@ -517,38 +517,54 @@ Eigen::Vector3f mergedReflection(const ReflectionEvidence& evidence, const Refle
     return nowhere;
   const Eigen::Vector3f along = ray / range;
   // Coarse steps of the landing tolerance (a landing is that wide), laid back from the whole reach
-  // (where the reflection lies when the two returns were about as strong); the first that lands,
-  // then the best landing within a step of it, in steps of a tenth of it. The estimated separation
-  // may fall a little short of the sensor's (ReflectionEvidence::echoSeparation): the fine steps
-  // may go half a step beyond it. Landing on a surface the reflection maps onto itself
-  // (ambiguous) is landing too: what the echo is, its brightness said.
-  const auto lands = [](ReflectionOutcome outcome) {
-    return outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::ambiguous;
+  // (where the reflection lies when the two returns were about as strong); at the first that
+  // lands, the range difference there and half a step on gives the shift where it vanishes (the
+  // surface landed on is locally flat: a secant step), kept when it lands closer. The estimated
+  // separation may fall a little short of the sensor's (ReflectionEvidence::echoSeparation): the
+  // shift may go half a step beyond it. Landing on a surface the reflection maps onto itself
+  // (ambiguous) is landing too: what the echo is, its brightness said. Only whether and where it
+  // lands counts here, so the test skips the wide normal and the path check. Measured on the
+  // 64 x 600 frame of bench/side_by_side.py (169 merged echoes): the cone labelling took 9.3 ms
+  // without merged echoes, 13.0 ms with the cone labelling's own test options and a scan in
+  // tenths of a step, 9.7 ms so (the phantoms left on random scenes 0-19 within 0.1 point).
+  const ReflectionTestOptions plain;
+  const auto lands = [](const ReflectionTest& test) {
+    return test.outcome == ReflectionOutcome::phantom || test.outcome == ReflectionOutcome::ambiguous;
   };
   const float step = object.landing_tolerance.at(range, behind);
-  float first = std::numeric_limits<float>::quiet_NaN();
+  const float longest = reach + 0.5f * step;
+  float best_shift = std::numeric_limits<float>::quiet_NaN();
+  ReflectionTest best;
   for (float shift = reach - step * std::floor(reach / step); shift <= reach + 1e-4f; shift += step)
   {
     if (!(shift > 0.0f))
       continue;
-    const ReflectionOutcome outcome = evidence.test(object.plane, p + shift * along, object.landing_tolerance, options).outcome;
-    if (lands(outcome))
+    const ReflectionTest test = evidence.test(object.plane, p + shift * along, object.landing_tolerance, plain);
+    if (lands(test))
     {
-      first = shift;
+      best_shift = shift;
+      best = test;
       break;
     }
   }
-  if (!std::isfinite(first))
+  if (!std::isfinite(best_shift))
     return nowhere;
-  float best_shift = first, best_error = std::numeric_limits<float>::infinity();
-  const float fine = 0.1f * step;
-  for (float shift = std::max(fine, first - step); shift <= std::min(reach + 0.5f * step, first + step); shift += fine)
+  const float probe_shift = best_shift + 0.5f * step <= longest ? best_shift + 0.5f * step : best_shift - 0.5f * step;
+  const ReflectionTest probe = evidence.test(object.plane, p + probe_shift * along, object.landing_tolerance, plain);
+  if (lands(probe) && probe.range_difference != best.range_difference)
   {
-    const ReflectionTest test = evidence.test(object.plane, p + shift * along, object.landing_tolerance, options);
-    if (lands(test.outcome) && std::fabs(test.range_difference) < best_error)
+    const float secant = best_shift - best.range_difference * (probe_shift - best_shift) /
+                                          (probe.range_difference - best.range_difference);
+    if (std::fabs(probe.range_difference) < std::fabs(best.range_difference))
     {
-      best_error = std::fabs(test.range_difference);
-      best_shift = shift;
+      best_shift = probe_shift;
+      best = probe;
+    }
+    if (secant > 0.0f && secant <= longest && std::fabs(secant - best_shift) <= step)
+    {
+      const ReflectionTest refined = evidence.test(object.plane, p + secant * along, object.landing_tolerance, plain);
+      if (lands(refined) && std::fabs(refined.range_difference) < std::fabs(best.range_difference))
+        best_shift = secant;
     }
   }
   return p + best_shift * along;
@@ -615,7 +631,7 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
       if ((outcome == ReflectionOutcome::transmitted || outcome == ReflectionOutcome::occluded) && !beyond_patch &&
           faintAsMergedReflection(object, echo.points[i], echo.intensities[i], evidence.get().sensorOrigin()))
       {
-        const Eigen::Vector3f reflection = mergedReflection(evidence.get(), object, echo.points[i], options);
+        const Eigen::Vector3f reflection = mergedReflection(evidence.get(), object, echo.points[i]);
         if (reflection.allFinite())
         {
           merged_echoes.push_back(ObjectAssignment::MergedEcho{ static_cast<std::uint32_t>(i), reflection });
