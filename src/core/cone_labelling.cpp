@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/merged_echoes.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 
 namespace ohm_mirror_detector3d
@@ -466,110 +467,6 @@ ConeClaim claimOf(const Eigen::Vector3f& p, const std::vector<std::size_t>& reac
   return claim;
 }
 
-// A merged echo (mergedReflection, below) is told from a real point just behind a pane by its
-// brightness. Moved along their beams, real points just behind a pane land on seen geometry too
-// (where the reflection of such a point falls close behind the sensor: a pane 0.5 m away, random
-// scene 7 of the 128-ring lidar, 1154 real points seen through it taken for merged echoes). A
-// merged echo comes back fainter than what is seen through the pane: the pane's surface echo and
-// its reflection, a few per cent each, against (1 - R)^2 of the light. Measured on random scenes
-// 0-19, the double-echo points behind glass within the separation of its plane and seen through
-// by their own evidence: merged echoes kept 0.004-0.023 of the brightness seen through (10th-90th
-// percentile, 128-ring lidar), real points 0.39-1.0. Without this gate (points seen through only)
-// the real points displaced on random scenes 0-19 rose from 2954 and 23370 to 3227 and 24625 (64-
-// and 128-ring lidars); with it (points seen through and occluded) they rose by 5 and 5, and the
-// phantoms at a wrong place fell by 355 and 1603.
-constexpr float kMergedEchoBrightnessShare = 0.25f;
-
-bool faintAsMergedReflection(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
-                             const Eigen::Vector3f& origin)
-{
-  // NaN (no intensity, or nothing seen through the object) compares false.
-  return intensity * (p - origin).squaredNorm() < kMergedEchoBrightnessShare * object.evidence.transmitted_brightness;
-}
-
-// One echo of the surface merged with a reflection in it. A sensor resolves two returns of a beam
-// only this far apart (ReflectionEvidence::echoSeparation, 0.9 m for the dual-return lidars);
-// nearer together they come back as one echo at a range between them, weighted by their
-// intensities. Where a pane (or shiny metal) returns a surface echo and reflects the beam onto
-// something less than that behind it, the echo lies short of the reflection by up to the
-// separation: reflected across the plane it lands short of what it shows, where the sensor saw
-// further (seen through, by its own evidence), or, behind what it shows from the sensor (a
-// surface facing the pane), nearer (occluded). Moved along its beam by as much as
-// the separation leaves (never beyond the surface echo's reach), such an echo lands on seen
-// geometry; a point seen through does so only by coincidence, and is told by its brightness
-// (kMergedEchoBrightnessShare). In the simulator's ground truth of random scenes 0-49, such
-// merged echoes were 41 / 60 / 26 % of the double-echo phantoms left at a wrong place on the
-// 64-, 128- and 32-ring lidars (3426 / 25238 / 13473 points; on the rotating Hokuyo, 0.3 m
-// separation, 6 %): reflected as measured, none lands within 5 cm of what it shows.
-// Returns the reflection's own echo (p moved along its beam to where, reflected, it lands nearest
-// to what the sensor saw), or NaN when it lands nowhere within reach.
-Eigen::Vector3f mergedReflection(const ReflectionEvidence& evidence, const ReflectiveObject& object,
-                                 const Eigen::Vector3f& p)
-{
-  const Eigen::Vector3f nowhere = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
-  const float separation = evidence.echoSeparation();
-  const Eigen::Vector3f& origin = evidence.sensorOrigin();
-  const Eigen::Vector3f ray = p - origin;
-  const float range = ray.norm();
-  const float behind = range - (object.rayCrossing(origin, p) - origin).norm();
-  const float reach = separation - behind;
-  if (!(separation > 0.0f) || !(range > 0.0f) || !(reach > 0.0f))
-    return nowhere;
-  const Eigen::Vector3f along = ray / range;
-  // Coarse steps of the landing tolerance (a landing is that wide), laid back from the whole reach
-  // (where the reflection lies when the two returns were about as strong); at the first that
-  // lands, the range difference there and half a step on gives the shift where it vanishes (the
-  // surface landed on is locally flat: a secant step), kept when it lands closer. The estimated
-  // separation may fall a little short of the sensor's (ReflectionEvidence::echoSeparation): the
-  // shift may go half a step beyond it. Landing on a surface the reflection maps onto itself
-  // (ambiguous) is landing too: what the echo is, its brightness said. Only whether and where it
-  // lands counts here, so the test skips the wide normal and the path check. Measured on the
-  // 64 x 600 frame of bench/side_by_side.py (169 merged echoes): the cone labelling took 9.3 ms
-  // without merged echoes, 13.0 ms with the cone labelling's own test options and a scan in
-  // tenths of a step, 9.7 ms so (the phantoms left on random scenes 0-19 within 0.1 point).
-  const ReflectionTestOptions plain;
-  const auto lands = [](const ReflectionTest& test) {
-    return test.outcome == ReflectionOutcome::phantom || test.outcome == ReflectionOutcome::ambiguous;
-  };
-  const float step = object.landing_tolerance.at(range, behind);
-  const float longest = reach + 0.5f * step;
-  float best_shift = std::numeric_limits<float>::quiet_NaN();
-  ReflectionTest best;
-  for (float shift = reach - step * std::floor(reach / step); shift <= reach + 1e-4f; shift += step)
-  {
-    if (!(shift > 0.0f))
-      continue;
-    const ReflectionTest test = evidence.test(object.plane, p + shift * along, object.landing_tolerance, plain);
-    if (lands(test))
-    {
-      best_shift = shift;
-      best = test;
-      break;
-    }
-  }
-  if (!std::isfinite(best_shift))
-    return nowhere;
-  const float probe_shift = best_shift + 0.5f * step <= longest ? best_shift + 0.5f * step : best_shift - 0.5f * step;
-  const ReflectionTest probe = evidence.test(object.plane, p + probe_shift * along, object.landing_tolerance, plain);
-  if (lands(probe) && probe.range_difference != best.range_difference)
-  {
-    const float secant = best_shift - best.range_difference * (probe_shift - best_shift) /
-                                          (probe.range_difference - best.range_difference);
-    if (std::fabs(probe.range_difference) < std::fabs(best.range_difference))
-    {
-      best_shift = probe_shift;
-      best = probe;
-    }
-    if (secant > 0.0f && secant <= longest && std::fabs(secant - best_shift) <= step)
-    {
-      const ReflectionTest refined = evidence.test(object.plane, p + secant * along, object.landing_tolerance, plain);
-      if (lands(refined) && std::fabs(refined.range_difference) < std::fabs(best.range_difference))
-        best_shift = secant;
-    }
-  }
-  return p + best_shift * along;
-}
-
 // Labels the points of beams [block, block_end) of one echo, testing only the cones in
 // `reachable` (every other cone is known to miss the block).
 void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end, const std::vector<std::size_t>& reachable,
@@ -628,10 +525,15 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
       const ReflectionOutcome outcome = test.outcome;
       // Only where the surface returned its echoes (a grown pane's patch; beyond it the rays met
       // the pane at an angle that returns next to nothing) can an echo be merged with it.
-      if ((outcome == ReflectionOutcome::transmitted || outcome == ReflectionOutcome::occluded) && !beyond_patch &&
-          faintAsMergedReflection(object, echo.points[i], echo.intensities[i], evidence.get().sensorOrigin()))
+      // A point that lands as measured may be one short of its reflection by less than the landing
+      // tolerance (mergedLanding).
+      if ((outcome == ReflectionOutcome::transmitted || outcome == ReflectionOutcome::occluded ||
+           outcome == ReflectionOutcome::phantom) &&
+          !beyond_patch && faintAsMergedReflection(object, echo.points[i], echo.intensities[i], evidence.get().sensorOrigin()))
       {
-        const Eigen::Vector3f reflection = mergedReflection(evidence.get(), object, echo.points[i]);
+        const Eigen::Vector3f reflection = outcome == ReflectionOutcome::phantom ?
+                                               mergedLanding(evidence.get(), object, echo.points[i], test) :
+                                               mergedReflection(evidence.get(), object, echo.points[i]);
         if (reflection.allFinite())
         {
           merged_echoes.push_back(ObjectAssignment::MergedEcho{ static_cast<std::uint32_t>(i), reflection });
@@ -726,6 +628,24 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
       if (!seen_through && outcome == ReflectionOutcome::phantom && beyond)
         outcome = ReflectionOutcome::noReturn;
       assignment.echoes[k][i] = static_cast<std::int32_t>(j);
+      // A phantom plane may be made of the object's surface echoes merged with its reflections
+      // (phantom_planes.cpp): those are back-projected from where their reflections land.
+      if (!seen_through && !beyond &&
+          (outcome == ReflectionOutcome::transmitted || outcome == ReflectionOutcome::occluded ||
+           outcome == ReflectionOutcome::phantom) &&
+          faintAsMergedReflection(object, p, sweep.echoes[k].intensities[i], evidence.get().sensorOrigin()))
+      {
+        const Eigen::Vector3f reflection = outcome == ReflectionOutcome::phantom ?
+                                               mergedLanding(evidence.get(), object, p, test) :
+                                               mergedReflection(evidence.get(), object, p);
+        if (reflection.allFinite())
+        {
+          assignment.merged_echoes[k].push_back(ObjectAssignment::MergedEcho{ static_cast<std::uint32_t>(i), reflection });
+          label = Label::behindReflective;
+          countBehind(object, ReflectionOutcome::phantom);
+          continue;
+        }
+      }
       if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::transmitted)
         label = behindLabel(object, outcome);
       else if (seen_through && outcome == ReflectionOutcome::ambiguous)
@@ -857,6 +777,10 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
     }
   }
   labelPhantomPlaneCones(sweep, sensor_origin, plane_threshold, margin, boxes, evidence, objects, labels, assignment);
+  // The borrowed cones added their merged echoes after the objects' own: beam order again.
+  for (std::vector<ObjectAssignment::MergedEcho>& merged : assignment.merged_echoes)
+    std::sort(merged.begin(), merged.end(),
+              [](const ObjectAssignment::MergedEcho& a, const ObjectAssignment::MergedEcho& b) { return a.beam < b.beam; });
   for (std::size_t j = 0; j < objects.size(); ++j)
     objects[j].mean_surface_intensity = intensity_counts[j] > 0 ?
                                             static_cast<float>(intensity_sums[j] / intensity_counts[j]) :

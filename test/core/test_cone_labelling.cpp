@@ -8,6 +8,7 @@
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/phantom_planes.h"
 #include "ohm_mirror_detector3d/core/reflection_chains.h"
 #include "ohm_mirror_detector3d/core/stage_configs.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
@@ -793,29 +794,33 @@ TEST(ConeLabelling, AnEchoOfThePaneMergedWithAReflectionIsBackProjectedToWhatItS
   // the pane: behind the pillar as the sensor sees it (occluded), or beside it, where the sensor
   // saw further (seen through). Faint against what is seen through the pane, it is taken for the
   // reflection it is merged with and back-projected to the pillar, where it lands when moved
-  // along its beam.
-  const MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 20.0f);
-  ASSERT_GT(scene.real.size(), 20u);
-  ASSERT_LT(scene.real.size(), 100u);
-  core::ReflectiveObject pane = wallObject(2.0f, 3.0f, 1.0f, ObjectType::glass);
-  pane.evidence.transmitted_brightness = 900.0f;
-  std::vector<core::ReflectiveObject> objects{ pane };
-  Labelled out = label(scene.sweep, objects);
-  core::ReflectionEvidence evidence;
-  evidence.build(scene.sweep, out.labels, Eigen::Vector3f::Zero());
-  ASSERT_NEAR(evidence.echoSeparation(), 0.9f, 0.01f);
-  EXPECT_EQ(out.assignment.merged_echoes[0].size(), scene.real.size());
-  const std::vector<core::OutputPoint> cleaned = cleanedOf(scene.sweep, objects, out);
-  std::size_t near = 0;
-  for (const core::OutputPoint& point : cleaned)
+  // along its beam. Short by 0.08 m, less than the landing tolerance, it lands as measured, and
+  // would be back-projected 8 cm off: it is moved to where it lands exactly.
+  for (const float shortfall : { 0.2f, 0.08f })
   {
-    const auto real = scene.real.find(point.beam);
-    if (point.echo != 1 || real == scene.real.end())
-      continue;
-    EXPECT_EQ(point.label, Label::behindReflective);
-    near += (point.position - real->second).norm() < 0.05f ? 1 : 0;
+    const MergedEchoes scene = mergedEchoesBehindAPane(shortfall, 20.0f);
+    ASSERT_GT(scene.real.size(), 20u);
+    ASSERT_LT(scene.real.size(), 100u);
+    core::ReflectiveObject pane = wallObject(2.0f, 3.0f, 1.0f, ObjectType::glass);
+    pane.evidence.transmitted_brightness = 900.0f;
+    std::vector<core::ReflectiveObject> objects{ pane };
+    Labelled out = label(scene.sweep, objects);
+    core::ReflectionEvidence evidence;
+    evidence.build(scene.sweep, out.labels, Eigen::Vector3f::Zero());
+    ASSERT_NEAR(evidence.echoSeparation(), 0.9f, 0.01f);
+    EXPECT_GE(out.assignment.merged_echoes[0].size(), scene.real.size() * 9 / 10) << "short by " << shortfall;
+    const std::vector<core::OutputPoint> cleaned = cleanedOf(scene.sweep, objects, out);
+    std::size_t near = 0;
+    for (const core::OutputPoint& point : cleaned)
+    {
+      const auto real = scene.real.find(point.beam);
+      if (point.echo != 1 || real == scene.real.end())
+        continue;
+      EXPECT_EQ(point.label, Label::behindReflective) << "short by " << shortfall;
+      near += (point.position - real->second).norm() < 0.03f ? 1 : 0;
+    }
+    EXPECT_GE(near, scene.real.size() * 9 / 10) << near << " of " << scene.real.size() << ", short by " << shortfall;
   }
-  EXPECT_GE(near, scene.real.size() * 9 / 10) << near << " of " << scene.real.size();
 }
 
 TEST(ConeLabelling, APointSeenThroughAPaneAsBrightAsTheRestStaysWhereItWasMeasured)
@@ -845,6 +850,67 @@ TEST(ConeLabelling, WithoutDoubleEchoesToShowTheSeparationNoEchoIsTakenForMerged
   std::vector<core::ReflectiveObject> objects{ pane };
   const Labelled out = label(scene.sweep, objects);
   EXPECT_TRUE(out.assignment.merged_echoes[0].empty());
+}
+
+TEST(ConeLabelling, APlaneOfMergedEchoesBehindAPaneIsItsPhantomPlaneAndBackProjected)
+{
+  // The merged echoes 0.2 m short of the pillar's reflection lie on a plane 0.33 m behind the pane:
+  // object extraction fits an object to them (typed mirror here, as on the 128-ring lidar's
+  // random_11). Reflected
+  // as measured they land nowhere, so they would not be the pane's phantoms; moved along their
+  // beams they are, and the object becomes the pane's phantom plane. The pane's own rectangle (its
+  // surface-echo patch, 0.6 m wide) does not reach them: its phantom plane's cone does, and they
+  // are back-projected from there.
+  const MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 20.0f);
+  core::ReflectiveObject pane = wallObject(2.0f, 0.6f, 1.0f, ObjectType::glass, 0);
+  pane.evidence.transmitted_brightness = 900.0f;
+  // As many surface echoes of its own as its phantom plane has (a phantom plane has about as
+  // many as its pane's patch, PhantomPlaneConfig::max_echo_ratio); only their count matters here.
+  for (const auto& beam_and_real : scene.real)
+    pane.surface_inliers.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 1 });
+  Eigen::Vector3f low = Eigen::Vector3f::Constant(1e9f), high = -low;
+  std::vector<core::PointRef> echoes;
+  for (const auto& beam_and_real : scene.real)
+  {
+    const Eigen::Vector3f& p = scene.sweep.echoes[0].points[beam_and_real.first];
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+    echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 0 });
+  }
+  core::ReflectiveObject merged = wallObject(0.5f * (low.x() + high.x()), high.y() - low.y() + 0.1f,
+                                             high.z() - low.z() + 0.1f, ObjectType::mirror, 1);
+  merged.centre = 0.5f * (low + high);
+  merged.surface_inliers = echoes;
+  std::vector<core::ReflectiveObject> objects{ pane, merged };
+  core::SweepLabels labels;
+  labels.reset(scene.sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(scene.sweep, labels, Eigen::Vector3f::Zero());
+  core::PhantomPlanes(core::stageConfigs(core::Params()).phantom_planes)
+      .process(scene.sweep, core::SweepContext(), evidence, labels, objects);
+  ASSERT_EQ(objects.size(), 1u);
+  ASSERT_EQ(objects[0].phantom_planes.size(), 1u);
+
+  // In front of an object not typed glass, the echoes are nobody's merged echoes (moved along
+  // their beams, a real pane's surface echoes behind a small unknown object land too): the object
+  // stays one of its own.
+  core::ReflectiveObject speck = pane;
+  speck.type = ObjectType::unknown;
+  std::vector<core::ReflectiveObject> not_a_pane{ speck, merged };
+  core::PhantomPlanes(core::stageConfigs(core::Params()).phantom_planes)
+      .process(scene.sweep, core::SweepContext(), evidence, labels, not_a_pane);
+  EXPECT_EQ(not_a_pane.size(), 2u);
+
+  Labelled out = label(scene.sweep, objects);
+  const std::vector<core::OutputPoint> cleaned = cleanedOf(scene.sweep, objects, out);
+  std::size_t near = 0;
+  for (const core::OutputPoint& point : cleaned)
+  {
+    const auto real = scene.real.find(point.beam);
+    if (point.echo == 1 && real != scene.real.end())
+      near += point.label == Label::behindReflective && (point.position - real->second).norm() < 0.05f ? 1 : 0;
+  }
+  EXPECT_GE(near, scene.real.size() * 9 / 10) << near << " of " << scene.real.size();
 }
 
 }  // namespace

@@ -9,7 +9,9 @@
 // points in its vision cone by their own evidence against that object's plane (behindReflective,
 // back-projected, where they land on what the sensor saw; behindTransparent where it saw
 // through), even where they lie outside that object's own cone (a pane's surface echoes cover
-// only its near-perpendicular patch).
+// only its near-perpendicular patch). A surface echo that is the other object's surface echo merged
+// with its reflection (merged_echoes.h: it lands when moved along its beam) counts as its phantom
+// too: such echoes lie on a plane just behind a pane, short of the image of what they show.
 //
 // Where the transmitted part's path is the shorter, the near echoes lie on what the pane shows
 // behind it (a wall seen through a glass wall) and the far echoes are the pane's reflections.
