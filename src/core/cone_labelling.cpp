@@ -375,6 +375,30 @@ void countBehind(ReflectiveObject& object, ReflectionOutcome outcome)
   }
 }
 
+// Whether point p of beam `beam` (with `intensity`), behind `object` with its own test `test`, is
+// one echo of the object's surface merged with a reflection in it (merged_echoes.h): faint against
+// what is seen through the object, and landing on seen geometry when moved along its beam (seen
+// through or occluded as measured), or landing exactly further along it (landing as measured).
+// Then it is labelled a phantom and counted, and where its reflection's own echo lies is recorded.
+bool takeMergedEcho(const ReflectionEvidence& evidence, ReflectiveObject& object, const Eigen::Vector3f& p,
+                    float intensity, std::size_t beam, const ReflectionTest& test, Label& label,
+                    std::vector<ObjectAssignment::MergedEcho>& merged_echoes)
+{
+  const ReflectionOutcome outcome = test.outcome;
+  if ((outcome != ReflectionOutcome::transmitted && outcome != ReflectionOutcome::occluded &&
+       outcome != ReflectionOutcome::phantom) ||
+      !faintAsMergedReflection(object, p, intensity, evidence.sensorOrigin()))
+    return false;
+  const Eigen::Vector3f reflection = outcome == ReflectionOutcome::phantom ? mergedLanding(evidence, object, p, test) :
+                                                                             mergedReflection(evidence, object, p);
+  if (!reflection.allFinite())
+    return false;
+  merged_echoes.push_back(ObjectAssignment::MergedEcho{ static_cast<std::uint32_t>(beam), reflection });
+  label = Label::behindReflective;
+  countBehind(object, ReflectionOutcome::phantom);
+  return true;
+}
+
 // Which object a point belongs to: the nearest plane of the cones it lies in (on the surface or
 // behind), with the rules for grown panes (PanePatch): beyond its patch a pane's claim yields to the
 // nearest mirror's cone, then to another patch of the same pane that saw the point through its
@@ -525,23 +549,9 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
       const ReflectionOutcome outcome = test.outcome;
       // Only where the surface returned its echoes (a grown pane's patch; beyond it the rays met
       // the pane at an angle that returns next to nothing) can an echo be merged with it.
-      // A point that lands as measured may be one short of its reflection by less than the landing
-      // tolerance (mergedLanding).
-      if ((outcome == ReflectionOutcome::transmitted || outcome == ReflectionOutcome::occluded ||
-           outcome == ReflectionOutcome::phantom) &&
-          !beyond_patch && faintAsMergedReflection(object, echo.points[i], echo.intensities[i], evidence.get().sensorOrigin()))
-      {
-        const Eigen::Vector3f reflection = outcome == ReflectionOutcome::phantom ?
-                                               mergedLanding(evidence.get(), object, echo.points[i], test) :
-                                               mergedReflection(evidence.get(), object, echo.points[i]);
-        if (reflection.allFinite())
-        {
-          merged_echoes.push_back(ObjectAssignment::MergedEcho{ static_cast<std::uint32_t>(i), reflection });
-          label = Label::behindReflective;
-          countBehind(object, ReflectionOutcome::phantom);
-          continue;
-        }
-      }
+      if (!beyond_patch &&
+          takeMergedEcho(evidence.get(), object, echo.points[i], echo.intensities[i], i, test, label, merged_echoes))
+        continue;
       label = behindLabel(object, outcome);
       if (kept_as_real && outcome == ReflectionOutcome::ambiguous &&
           reflectedByIntensity(object, echo.points[i], echo.intensities[i], test, origin))
@@ -631,21 +641,9 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
       // A phantom plane may be made of the object's surface echoes merged with its reflections
       // (phantom_planes.cpp): those are back-projected from where their reflections land.
       if (!seen_through && !beyond &&
-          (outcome == ReflectionOutcome::transmitted || outcome == ReflectionOutcome::occluded ||
-           outcome == ReflectionOutcome::phantom) &&
-          faintAsMergedReflection(object, p, sweep.echoes[k].intensities[i], evidence.get().sensorOrigin()))
-      {
-        const Eigen::Vector3f reflection = outcome == ReflectionOutcome::phantom ?
-                                               mergedLanding(evidence.get(), object, p, test) :
-                                               mergedReflection(evidence.get(), object, p);
-        if (reflection.allFinite())
-        {
-          assignment.merged_echoes[k].push_back(ObjectAssignment::MergedEcho{ static_cast<std::uint32_t>(i), reflection });
-          label = Label::behindReflective;
-          countBehind(object, ReflectionOutcome::phantom);
-          continue;
-        }
-      }
+          takeMergedEcho(evidence.get(), object, p, sweep.echoes[k].intensities[i], i, test, label,
+                         assignment.merged_echoes[k]))
+        continue;
       if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::transmitted)
         label = behindLabel(object, outcome);
       else if (seen_through && outcome == ReflectionOutcome::ambiguous)

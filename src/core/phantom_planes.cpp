@@ -46,10 +46,6 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
     behind += behindHost(echoes[i]) ? 1 : 0;
   if (static_cast<float>(behind) < needed)
     return result;
-  // The sample is visited in kPasses interleaved passes, each spread over the whole object: after
-  // the first, a pair whose share there is under half of min_share is given up (most pairs tested
-  // are no pair at all: random scene 29 on the 32-ring lidar, 30 objects, 220 pairs behind one
-  // another, 18000 tests in 12 ms before).
   // An echo of the host's surface merged with its reflection (merged_echoes.h) is the host's
   // phantom too: a plane of such echoes lies just behind a pane, short of the image of what it
   // shows (the 128-ring lidar's random_11: 3838 of them made a 0.49 x 1.59 m "mirror" behind a
@@ -62,6 +58,10 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
     return may_be_merged && faintAsMergedReflection(host, p, intensity, origin) &&
            mergedReflection(evidence, host, p).allFinite();
   };
+  // The sample is visited in kPasses interleaved passes, each spread over the whole object: after
+  // the first, a pair whose share there is under half of min_share is given up (most pairs tested
+  // are no pair at all: random scene 29 on the 32-ring lidar, 30 objects, 220 pairs behind one
+  // another, 18000 tests in 12 ms before).
   std::size_t phantoms = 0, seen_through = 0, left = behind, tested = 0;
   // Whether neither share can reach min_share any more, even if every echo left counted.
   auto hopeless = [&]() { return static_cast<float>(std::max(phantoms, seen_through) + left) < needed; };

@@ -22,7 +22,7 @@ struct ObjectAssignment
   static constexpr std::int32_t kNoObject = -1;
   std::array<std::vector<std::int32_t>, 2> echoes;
   // Per echo, in beam order: the points taken for one echo of an object's surface merged with a
-  // reflection in it (see cone_labelling.cpp, mergedReflection), each with where the reflection's
+  // reflection in it (merged_echoes.h), each with where the reflection's
   // own echo lies along its beam (what the reflection chains and the back-projection start from).
   struct MergedEcho
   {
