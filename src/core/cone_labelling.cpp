@@ -5,9 +5,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/merged_echoes.h"
+#include "ohm_mirror_detector3d/core/parallel.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 
 namespace ohm_mirror_detector3d
@@ -211,21 +213,38 @@ constexpr std::size_t kBlockBeams = 64;
 // the block (map objects all round the sensor).
 constexpr std::size_t kSubBlockBeams = 16;
 
-// The evidence, asked for when the first point behind an object needs it.
+// The evidence, asked for when the first point behind an object needs it (by whichever thread
+// meets that point first; the others wait for it).
 class LazyEvidence
 {
 public:
   explicit LazyEvidence(const std::function<const ReflectionEvidence&()>& source) : source_(source) {}
   const ReflectionEvidence& get()
   {
-    if (evidence_ == nullptr)
-      evidence_ = &source_();
+    std::call_once(asked_, [this]() { evidence_ = &source_(); });
     return *evidence_;
   }
 
 private:
   const std::function<const ReflectionEvidence&()>& source_;
+  std::once_flag asked_;
   const ReflectionEvidence* evidence_ = nullptr;
+};
+
+// What the labelling counted for one object (ReflectiveObject's counters of the points behind):
+// each range of beams labelled side by side counts in its own, added up afterwards.
+struct ConeTally
+{
+  std::size_t behind = 0, phantom = 0, transmitted = 0, ambiguous = 0, undecided = 0;
+
+  void addTo(ReflectiveObject& object) const
+  {
+    object.behind_points += behind;
+    object.phantom_points += phantom;
+    object.transmitted_points += transmitted;
+    object.ambiguous_points += ambiguous;
+    object.undecided_points += undecided;
+  }
 };
 
 // Conservative whole-block test for one object's vision cone: tells when no point inside an
@@ -331,23 +350,27 @@ bool mayReach(const ConeBounds& bounds, const BlockBox& box)
 class ChainCones
 {
 public:
+  // Every object's cones from every other's image of the origin, built before the labelling so
+  // that its threads only read them (n^2 cones: a few dozen objects at most).
   ChainCones(const std::vector<ReflectiveObject>& objects, const Eigen::Vector3f& origin, float plane_threshold,
              float margin)
-    : objects_(objects), origin_(origin), plane_threshold_(plane_threshold), margin_(margin), cones_(objects.size())
+    : objects_(objects), plane_threshold_(plane_threshold), cones_(objects.size())
   {
+    if (objects.size() < 2)
+      return;
+    for (std::size_t from = 0; from < objects.size(); ++from)
+    {
+      const Eigen::Vector3f image = objects[from].reflect(origin);
+      for (const ReflectiveObject& object : objects)
+        cones_[from].emplace_back(object, image, plane_threshold, margin);
+    }
   }
 
-  bool mayContinue(std::size_t from, const Eigen::Vector3f& reflected, const Eigen::Vector3f& crossing)
+  bool mayContinue(std::size_t from, const Eigen::Vector3f& reflected, const Eigen::Vector3f& crossing) const
   {
     if (objects_.size() < 2)
       return false;
-    std::vector<VisionCone>& cones = cones_[from];
-    if (cones.empty())
-    {
-      const Eigen::Vector3f image = objects_[from].reflect(origin_);
-      for (const ReflectiveObject& object : objects_)
-        cones.emplace_back(object, image, plane_threshold_, margin_);
-    }
+    const std::vector<VisionCone>& cones = cones_[from];
     for (std::size_t j = 0; j < objects_.size(); ++j)
       if (j != from && objects_[j].signedDistance(crossing) > plane_threshold_ &&
           cones[j].locate(reflected).relation == ConeRelation::behind)
@@ -357,21 +380,20 @@ public:
 
 private:
   const std::vector<ReflectiveObject>& objects_;
-  Eigen::Vector3f origin_;
-  float plane_threshold_, margin_;
+  float plane_threshold_;
   std::vector<std::vector<VisionCone>> cones_;
 };
 
 // Counts a point behind the object by what it said (ReflectionOutcome).
-void countBehind(ReflectiveObject& object, ReflectionOutcome outcome)
+void countBehind(ConeTally& tally, ReflectionOutcome outcome)
 {
-  ++object.behind_points;
+  ++tally.behind;
   switch (outcome)
   {
-    case ReflectionOutcome::phantom: ++object.phantom_points; break;
-    case ReflectionOutcome::transmitted: ++object.transmitted_points; break;
-    case ReflectionOutcome::ambiguous: ++object.ambiguous_points; break;
-    default: ++object.undecided_points; break;
+    case ReflectionOutcome::phantom: ++tally.phantom; break;
+    case ReflectionOutcome::transmitted: ++tally.transmitted; break;
+    case ReflectionOutcome::ambiguous: ++tally.ambiguous; break;
+    default: ++tally.undecided; break;
   }
 }
 
@@ -380,8 +402,8 @@ void countBehind(ReflectiveObject& object, ReflectionOutcome outcome)
 // what is seen through the object, and landing on seen geometry when moved along its beam (seen
 // through or occluded as measured), or landing exactly further along it (landing as measured).
 // Then it is labelled a phantom and counted, and where its reflection's own echo lies is recorded.
-bool takeMergedEcho(const ReflectionEvidence& evidence, ReflectiveObject& object, const Eigen::Vector3f& p,
-                    float intensity, std::size_t beam, const ReflectionTest& test, Label& label,
+bool takeMergedEcho(const ReflectionEvidence& evidence, const ReflectiveObject& object, const Eigen::Vector3f& p,
+                    float intensity, std::size_t beam, const ReflectionTest& test, Label& label, ConeTally& tally,
                     std::vector<ObjectAssignment::MergedEcho>& merged_echoes)
 {
   const ReflectionOutcome outcome = test.outcome;
@@ -395,7 +417,7 @@ bool takeMergedEcho(const ReflectionEvidence& evidence, ReflectiveObject& object
     return false;
   merged_echoes.push_back(ObjectAssignment::MergedEcho{ static_cast<std::uint32_t>(beam), reflection });
   label = Label::behindReflective;
-  countBehind(object, ReflectionOutcome::phantom);
+  countBehind(tally, ReflectionOutcome::phantom);
   return true;
 }
 
@@ -492,13 +514,14 @@ ConeClaim claimOf(const Eigen::Vector3f& p, const std::vector<std::size_t>& reac
 }
 
 // Labels the points of beams [block, block_end) of one echo, testing only the cones in
-// `reachable` (every other cone is known to miss the block).
+// `reachable` (every other cone is known to miss the block). Writes only those beams' labels and
+// assignments, its own tallies (one per object) and merged echoes: ranges of beams are labelled
+// side by side. A point on an object's surface is counted afterwards (countSurfaces).
 void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end, const std::vector<std::size_t>& reachable,
                 const std::vector<VisionCone>& cones, const std::vector<PanePatch>& patches, LazyEvidence& evidence,
-                ChainCones& chains, std::vector<ReflectiveObject>& objects,
+                const ChainCones& chains, const std::vector<ReflectiveObject>& objects,
                 std::vector<Label>& echo_labels, std::vector<std::int32_t>& echo_assignment,
-                std::vector<ObjectAssignment::MergedEcho>& merged_echoes,
-                std::vector<double>& intensity_sums, std::vector<std::size_t>& intensity_counts)
+                std::vector<ObjectAssignment::MergedEcho>& merged_echoes, std::vector<ConeTally>& tallies)
 {
   for (std::size_t i = block; i < block_end; ++i)
   {
@@ -516,17 +539,12 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
         label = Label::valid;
       continue;
     }
-    ReflectiveObject& object = objects[static_cast<std::size_t>(nearest)];
+    const ReflectiveObject& object = objects[static_cast<std::size_t>(nearest)];
+    ConeTally& tally = tallies[static_cast<std::size_t>(nearest)];
     echo_assignment[i] = nearest;
     if (nearest_hit.relation == ConeRelation::onSurface)
     {
       label = surfaceLabel(object.type);
-      ++object.surface_points;
-      if (std::isfinite(echo.intensities[i]))
-      {
-        intensity_sums[static_cast<std::size_t>(nearest)] += echo.intensities[i];
-        ++intensity_counts[static_cast<std::size_t>(nearest)];
-      }
     }
     else
     {
@@ -550,7 +568,8 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
       // Only where the surface returned its echoes (a grown pane's patch; beyond it the rays met
       // the pane at an angle that returns next to nothing) can an echo be merged with it.
       if (!beyond_patch &&
-          takeMergedEcho(evidence.get(), object, echo.points[i], echo.intensities[i], i, test, label, merged_echoes))
+          takeMergedEcho(evidence.get(), object, echo.points[i], echo.intensities[i], i, test, label, tally,
+                         merged_echoes))
         continue;
       label = behindLabel(object, outcome);
       if (kept_as_real && outcome == ReflectionOutcome::ambiguous &&
@@ -572,9 +591,46 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
           outcome != ReflectionOutcome::phantom && outcome != ReflectionOutcome::transmitted &&
           brightnessBehind(object, echo.points[i], echo.intensities[i], origin) == Brightness::seenThrough)
         label = Label::behindTransparent;
-      countBehind(object, outcome);
+      countBehind(tally, outcome);
     }
   }
+}
+
+// The points on each object's surface (those the labelling assigned to it with its surface
+// label: no point behind gets one) and the mean intensity of those that have one, summed in beam
+// order as one pass over the sweep.
+void countSurfaces(const Sweep& sweep, const SweepLabels& labels, const ObjectAssignment& assignment,
+                   std::vector<ReflectiveObject>& objects)
+{
+  std::vector<double> intensity_sums(objects.size(), 0.0);
+  std::vector<std::size_t> intensity_counts(objects.size(), 0);
+  std::vector<Label> surface_labels;
+  for (const ReflectiveObject& object : objects)
+    surface_labels.push_back(surfaceLabel(object.type));
+  for (std::size_t k = 0; k < 2; ++k)
+  {
+    const std::vector<std::int32_t>& assigned = assignment.echoes[k];
+    const std::vector<Label>& echo_labels = labels.echoes[k];
+    const std::vector<float>& intensities = sweep.echoes[k].intensities;
+    for (std::size_t i = 0; i < assigned.size(); ++i)
+    {
+      if (assigned[i] == ObjectAssignment::kNoObject)
+        continue;
+      const std::size_t j = static_cast<std::size_t>(assigned[i]);
+      if (echo_labels[i] != surface_labels[j])
+        continue;
+      ++objects[j].surface_points;
+      if (std::isfinite(intensities[i]))
+      {
+        intensity_sums[j] += intensities[i];
+        ++intensity_counts[j];
+      }
+    }
+  }
+  for (std::size_t j = 0; j < objects.size(); ++j)
+    objects[j].mean_surface_intensity = intensity_counts[j] > 0 ?
+                                            static_cast<float>(intensity_sums[j] / intensity_counts[j]) :
+                                            std::numeric_limits<float>::quiet_NaN();
 }
 
 // The boxes of blocks of kBlockBeams beams of each echo (their points that are not nanPoint), for
@@ -608,7 +664,8 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
                        std::size_t j, float plane_threshold, LazyEvidence& evidence,
                        std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment)
 {
-  ReflectiveObject& object = objects[j];
+  const ReflectiveObject& object = objects[j];
+  ConeTally tally;
   const std::size_t beams = sweep.beamCount();
   for (std::size_t k = 0; k < 2; ++k)
     for (std::size_t i = 0; i < beams; ++i)
@@ -641,7 +698,7 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
       // A phantom plane may be made of the object's surface echoes merged with its reflections
       // (phantom_planes.cpp): those are back-projected from where their reflections land.
       if (!seen_through && !beyond &&
-          takeMergedEcho(evidence.get(), object, p, sweep.echoes[k].intensities[i], i, test, label,
+          takeMergedEcho(evidence.get(), object, p, sweep.echoes[k].intensities[i], i, test, label, tally,
                          assignment.merged_echoes[k]))
         continue;
       if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::transmitted)
@@ -657,8 +714,9 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
                         behindLabel(borrowed, outcome) == Label::behindTransparent ?
                     Label::behindTransparent :
                     Label::behindErrorS;
-      countBehind(object, outcome);
+      countBehind(tally, outcome);
     }
+  tally.addTo(objects[j]);
 }
 
 void labelPhantomPlaneCones(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, float plane_threshold,
@@ -689,7 +747,9 @@ void ObjectAssignment::reset(std::size_t beam_count)
 }
 
 ConeLabelling::ConeLabelling(const ConeLabellingConfig& config)
-  : plane_threshold_(static_cast<float>(config.plane_threshold)), cone_margin_(static_cast<float>(config.cone_margin))
+  : plane_threshold_(static_cast<float>(config.plane_threshold))
+  , cone_margin_(static_cast<float>(config.cone_margin))
+  , threads_(config.threads)
 {
 }
 
@@ -709,8 +769,6 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   LazyEvidence evidence(evidence_source);
   const std::size_t beams = sweep.beamCount();
   assignment.reset(beams);
-  std::vector<double> intensity_sums(objects.size(), 0.0);
-  std::vector<std::size_t> intensity_counts(objects.size(), 0);
   for (ReflectiveObject& object : objects)
     object.surface_points = object.behind_points = object.phantom_points = object.transmitted_points =
         object.ambiguous_points = object.undecided_points = 0;
@@ -726,43 +784,61 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
     cones.emplace_back(object, sensor_origin, plane_threshold, margin);
     patches.emplace_back(object, margin);
   }
-  ChainCones chains(objects, sensor_origin, plane_threshold, margin);
+  const ChainCones chains(objects, sensor_origin, plane_threshold, margin);
   std::vector<ConeBounds> bounds;
   bounds.reserve(objects.size());
   for (const ReflectiveObject& object : objects)
     bounds.emplace_back(object, sensor_origin, plane_threshold, margin);
-  // Objects whose cone the current block (sub-block) may reach, ascending (so that ties between
-  // cones resolve as if every cone were tested).
-  std::vector<std::size_t> reachable, sub_reachable;
-  reachable.reserve(objects.size());
-  sub_reachable.reserve(objects.size());
-  // The cones of `candidates` that may reach the beams of `block_box` (every one of them when the
-  // box of its labelled points is not finite).
-  const auto cull = [&](const BlockBox& block_box, const std::vector<std::size_t>& candidates,
-                        std::vector<std::size_t>& out) {
-    out.clear();
-    for (const std::size_t j : candidates)
-      if (mayReach(bounds[j], block_box))
-        out.push_back(j);
-  };
   // Without an object there is no cone to cull (nor a borrowed one).
   const EchoBlockBoxes boxes = objects.empty() ? EchoBlockBoxes() : EchoBlockBoxes(sweep, labels);
   std::vector<std::size_t> all(objects.size());
   for (std::size_t j = 0; j < objects.size(); ++j)
     all[j] = j;
-  for (std::size_t k = 0; k < 2; ++k)
+
+  // Each echo's blocks cut into ranges, a few per thread (ranges differ in how much lies behind
+  // an object), each range labelled by one task with its own tallies and merged echoes. The
+  // labels do not depend on the cut: a point's label reads only its own beam and the objects.
+  const std::size_t blocks = (beams + kBlockBeams - 1) / kBlockBeams;
+  const std::size_t ranges_per_echo = partsFor(blocks, threads_, 1);
+  struct RangeResult
   {
+    std::vector<ConeTally> tallies;
+    std::vector<ObjectAssignment::MergedEcho> merged_echoes;
+  };
+  std::vector<RangeResult> results(2 * ranges_per_echo);
+  runTasks(results.size(), threads_, [&](std::size_t task, std::size_t) {
+    const std::size_t k = task / ranges_per_echo;
+    const std::size_t part = task % ranges_per_echo;
     const EchoCloud& echo = sweep.echoes[k];
-    for (std::size_t block = 0; block < beams; block += kBlockBeams)
+    RangeResult& result = results[task];
+    result.tallies.assign(objects.size(), ConeTally());
+    // Objects whose cone the current block (sub-block) may reach, ascending (so that ties between
+    // cones resolve as if every cone were tested).
+    std::vector<std::size_t> reachable, sub_reachable;
+    reachable.reserve(objects.size());
+    sub_reachable.reserve(objects.size());
+    // The cones of `candidates` that may reach the beams of `block_box` (every one of them when the
+    // box of its labelled points is not finite).
+    const auto cull = [&](const BlockBox& block_box, const std::vector<std::size_t>& candidates,
+                          std::vector<std::size_t>& out) {
+      out.clear();
+      for (const std::size_t j : candidates)
+        if (mayReach(bounds[j], block_box))
+          out.push_back(j);
+    };
+    const std::size_t first_block = partBegin(blocks, ranges_per_echo, part);
+    const std::size_t end_block = partBegin(blocks, ranges_per_echo, part + 1);
+    for (std::size_t b = first_block; b < end_block; ++b)
     {
+      const std::size_t block = b * kBlockBeams;
       const std::size_t block_end = std::min(beams, block + kBlockBeams);
       reachable.clear();
       if (!objects.empty())
-        cull(boxes.echoes[k][block / kBlockBeams], all, reachable);
+        cull(boxes.echoes[k][b], all, reachable);
       if (reachable.empty())
       {
-        labelBlock(echo, block, block_end, reachable, cones, patches, evidence, chains, objects, labels.echoes[k], assignment.echoes[k],
-                   assignment.merged_echoes[k], intensity_sums, intensity_counts);
+        labelBlock(echo, block, block_end, reachable, cones, patches, evidence, chains, objects, labels.echoes[k],
+                   assignment.echoes[k], result.merged_echoes, result.tallies);
         continue;
       }
       for (std::size_t sub = block; sub < block_end; sub += kSubBlockBeams)
@@ -770,19 +846,25 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
         const std::size_t sub_end = std::min(block_end, sub + kSubBlockBeams);
         cull(labelledBlockBox(sweep, labels, k, sub, sub_end), reachable, sub_reachable);
         labelBlock(echo, sub, sub_end, sub_reachable, cones, patches, evidence, chains, objects, labels.echoes[k],
-                   assignment.echoes[k], assignment.merged_echoes[k], intensity_sums, intensity_counts);
+                   assignment.echoes[k], result.merged_echoes, result.tallies);
       }
     }
+  });
+  // In range order: the merged echoes in beam order, as one pass would have found them.
+  for (std::size_t task = 0; task < results.size(); ++task)
+  {
+    const RangeResult& result = results[task];
+    for (std::size_t j = 0; j < objects.size() && j < result.tallies.size(); ++j)
+      result.tallies[j].addTo(objects[j]);
+    std::vector<ObjectAssignment::MergedEcho>& merged = assignment.merged_echoes[task / ranges_per_echo];
+    merged.insert(merged.end(), result.merged_echoes.begin(), result.merged_echoes.end());
   }
+  countSurfaces(sweep, labels, assignment, objects);
   labelPhantomPlaneCones(sweep, sensor_origin, plane_threshold, margin, boxes, evidence, objects, labels, assignment);
   // The borrowed cones added their merged echoes after the objects' own: beam order again.
   for (std::vector<ObjectAssignment::MergedEcho>& merged : assignment.merged_echoes)
     std::sort(merged.begin(), merged.end(),
               [](const ObjectAssignment::MergedEcho& a, const ObjectAssignment::MergedEcho& b) { return a.beam < b.beam; });
-  for (std::size_t j = 0; j < objects.size(); ++j)
-    objects[j].mean_surface_intensity = intensity_counts[j] > 0 ?
-                                            static_cast<float>(intensity_sums[j] / intensity_counts[j]) :
-                                            std::numeric_limits<float>::quiet_NaN();
 }
 
 }  // namespace core

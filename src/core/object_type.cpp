@@ -10,6 +10,7 @@
 
 #include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
+#include "ohm_mirror_detector3d/core/parallel.h"
 #include "ohm_mirror_detector3d/core/real_scene.h"
 #include "ohm_mirror_detector3d/core/spatial_index.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
@@ -230,14 +231,23 @@ float tiltUncertainty(const std::vector<Eigen::Vector3f>& surface, const Reflect
 }
 }  // namespace
 
-struct ObjectTypeAnalyzer::Buffers
+// Bounding box of the finite points of each block of kBlockBeams beams, per echo, and the sweep
+// they belong to (see beginSweep): read by every object's analysis.
+struct ObjectTypeAnalyzer::SweepBoxes
 {
-  // Bounding box of the finite points of each block of kBlockBeams beams, per echo, and the
-  // sweep they belong to (see beginSweep).
   std::array<std::vector<Eigen::AlignedBox3f>, 2> block_boxes;
   const Sweep* boxes_of = nullptr;
   std::size_t boxes_beams = 0;
 
+  const std::array<std::vector<Eigen::AlignedBox3f>, 2>* of(const Sweep& sweep) const
+  {
+    return boxes_of == &sweep && boxes_beams == sweep.beamCount() ? &block_boxes : nullptr;
+  }
+};
+
+// One analysis's working memory (one per object analysed side by side), reused from sweep to sweep.
+struct ObjectTypeAnalyzer::Buffers
+{
   std::vector<Eigen::Vector3f> all_behind;    // every point behind the object, as measured
   std::vector<char> all_inside;               // whether its ray crosses the rectangle's inside
   std::vector<float> all_intensity;           // its intensity (NaN: none)
@@ -257,8 +267,9 @@ struct ObjectTypeAnalyzer::Buffers
   MirrorPlaneRefinement refinement;
 };
 
-ObjectTypeAnalyzer::ObjectTypeAnalyzer(const ObjectTypeConfig& config) : config_(config), buffers_(new Buffers)
+ObjectTypeAnalyzer::ObjectTypeAnalyzer(const ObjectTypeConfig& config) : config_(config), boxes_(new SweepBoxes)
 {
+  buffers_.emplace_back(new Buffers);
 }
 ObjectTypeAnalyzer::~ObjectTypeAnalyzer() = default;
 ObjectTypeAnalyzer::ObjectTypeAnalyzer(ObjectTypeAnalyzer&&) noexcept = default;
@@ -266,7 +277,7 @@ ObjectTypeAnalyzer& ObjectTypeAnalyzer::operator=(ObjectTypeAnalyzer&&) noexcept
 
 void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
 {
-  Buffers& b = *buffers_;
+  SweepBoxes& b = *boxes_;
   const std::size_t beams = sweep.beamCount();
   for (std::size_t k = 0; k < 2; ++k)
   {
@@ -282,11 +293,34 @@ void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
   b.boxes_beams = beams;
 }
 
+void ObjectTypeAnalyzer::analyzeAll(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+                                    const SweepLabels& labels, const ReflectionEvidence& evidence,
+                                    std::vector<ReflectiveObject>& objects)
+{
+  if (objects.empty())
+    return;
+  beginSweep(sweep);
+  // One task per object: each reads the sweep, its labels and the evidence, and writes only its
+  // object and its worker's buffers (an object's result does not depend on which buffers).
+  const std::size_t workers = workersFor(objects.size(), config_.threads);
+  while (buffers_.size() < workers)
+    buffers_.emplace_back(new Buffers);
+  runTasks(objects.size(), config_.threads, [&](std::size_t j, std::size_t worker) {
+    analyzeWith(*buffers_[worker], sweep, sensor_origin, labels, evidence, objects[j]);
+  });
+}
+
 void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                                  const ReflectionEvidence& evidence, ReflectiveObject& object)
 {
-  Buffers& b = *buffers_;
-  const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
+  analyzeWith(*buffers_[0], sweep, sensor_origin, labels, evidence, object);
+}
+
+void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+                                     const SweepLabels& labels, const ReflectionEvidence& evidence,
+                                     ReflectiveObject& object)
+{
+  const auto* block_boxes = boxes_->of(sweep);
   TypeEvidence& result = object.evidence;
   result = TypeEvidence();
   object.type = ObjectType::unknown;
@@ -313,7 +347,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   const float origin_side = object.signedDistance(sensor_origin);
   const float inside_width = 0.5f * object.width - std::min(kTypeBorder, 0.25f * object.width);
   const float inside_height = 0.5f * object.height - std::min(kTypeBorder, 0.25f * object.height);
-  forEachPointBehind(sweep, labels, cone, object, plane_threshold, blocked ? &b.block_boxes : nullptr,
+  forEachPointBehind(sweep, labels, cone, object, plane_threshold, block_boxes,
                      [&](std::size_t k, std::size_t i, const Eigen::Vector3f& p, float point_side) {
                        const std::vector<float>& intensities = sweep.echoes[k].intensities;
                        const Eigen::Vector3f crossing = sensor_origin +
@@ -367,7 +401,7 @@ void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sens
   for (std::size_t s = 0; s < samples; ++s)
     if (lands(b.tests[s]))
       b.landed.push_back(b.sample[s]);
-  if (refineFromLanded(sweep, labels, sensor_origin, weight, object))
+  if (refineFromLanded(b, sweep, labels, sensor_origin, weight, object))
     testSample();
 
   // What the sample said.
@@ -488,8 +522,8 @@ bool ObjectTypeAnalyzer::refineGrownPlane(const Sweep& sweep, const Eigen::Vecto
                                           const SweepLabels& labels, const ReflectionEvidence& evidence,
                                           ReflectiveObject& object)
 {
-  Buffers& b = *buffers_;
-  const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
+  Buffers& b = *buffers_[0];
+  const auto* block_boxes = boxes_->of(sweep);
   const float plane_threshold = static_cast<float>(config_.plane_threshold);
   const std::size_t min_points = static_cast<std::size_t>(config_.icp_min_points);
   b.surface.clear();
@@ -499,7 +533,7 @@ bool ObjectTypeAnalyzer::refineGrownPlane(const Sweep& sweep, const Eigen::Vecto
   // The points behind the grown rectangle (inside its vision cone), as analyze() gathers them.
   b.all_behind.clear();
   const VisionCone cone(object, sensor_origin, plane_threshold, static_cast<float>(config_.cone_margin));
-  forEachPointBehind(sweep, labels, cone, object, plane_threshold, blocked ? &b.block_boxes : nullptr,
+  forEachPointBehind(sweep, labels, cone, object, plane_threshold, block_boxes,
                      [&](std::size_t, std::size_t, const Eigen::Vector3f& p, float) { b.all_behind.push_back(p); });
   const std::size_t total = b.all_behind.size();
   if (total < min_points)
@@ -513,18 +547,17 @@ bool ObjectTypeAnalyzer::refineGrownPlane(const Sweep& sweep, const Eigen::Vecto
     if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::ambiguous)
       b.landed.push_back(p);
   }
-  return refineFromLanded(sweep, labels, sensor_origin, static_cast<double>(total) / static_cast<double>(samples),
+  return refineFromLanded(b, sweep, labels, sensor_origin, static_cast<double>(total) / static_cast<double>(samples),
                           object);
 }
 
-bool ObjectTypeAnalyzer::refineFromLanded(const Sweep& sweep, const SweepLabels& labels,
+bool ObjectTypeAnalyzer::refineFromLanded(Buffers& b, const Sweep& sweep, const SweepLabels& labels,
                                           const Eigen::Vector3f& sensor_origin, double weight, ReflectiveObject& object)
 {
-  const Buffers& b = *buffers_;
   if (static_cast<double>(b.landed.size()) * weight < static_cast<double>(config_.icp_min_points) || b.landed.size() < 3)
     return false;
   const Eigen::Vector3f before = object.plane.head<3>();
-  const PlaneRefinement refinement = refinePlane(sweep, labels, sensor_origin, weight, object);
+  const PlaneRefinement refinement = refinePlane(b, sweep, labels, sensor_origin, weight, object);
   if (!refinement.refined)
     return false;
   object.evidence.plane_refined = true;
@@ -534,12 +567,11 @@ bool ObjectTypeAnalyzer::refineFromLanded(const Sweep& sweep, const SweepLabels&
   return true;
 }
 
-PlaneRefinement ObjectTypeAnalyzer::refinePlane(const Sweep& sweep, const SweepLabels& labels,
+PlaneRefinement ObjectTypeAnalyzer::refinePlane(Buffers& b, const Sweep& sweep, const SweepLabels& labels,
                                                 const Eigen::Vector3f& sensor_origin, double weight,
                                                 ReflectiveObject& object)
 {
-  Buffers& b = *buffers_;
-  const bool blocked = b.boxes_of == &sweep && b.boxes_beams == sweep.beamCount();
+  const auto* block_boxes = boxes_->of(sweep);
   const Eigen::Vector3f normal = object.plane.head<3>();
   const float plane_offset = object.plane[3];
   const float plane_threshold = static_cast<float>(config_.plane_threshold);
@@ -568,9 +600,9 @@ PlaneRefinement ObjectTypeAnalyzer::refinePlane(const Sweep& sweep, const SweepL
     for (std::size_t i = 0; i < beams; ++i)
     {
       // Blocks with no point in front of the plane, or none in the landing box, hold nothing.
-      if (blocked && i % kBlockBeams == 0)
+      if (block_boxes != nullptr && i % kBlockBeams == 0)
       {
-        const Eigen::AlignedBox3f& box = b.block_boxes[k][i / kBlockBeams];
+        const Eigen::AlignedBox3f& box = (*block_boxes)[k][i / kBlockBeams];
         if (box.isEmpty() || maxSide(box, normal, plane_offset) < plane_threshold - kBlockSlack ||
             !box.intersects(grown_landing_zone))
         {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ohm_mirror_detector3d/core/parallel.h"
+
 // The spatial index with cells at least as large as the radius, so that every neighbour of a
 // point lies in its own cell or one of the 26 around it. A cell's points are contiguous, the
 // distance loop streams through plain float arrays, and the three cells of a column along z
@@ -87,6 +89,10 @@ struct Range
 // two costs about as much as the box test, and the branch it adds mispredicts.
 constexpr std::uint32_t kBoxTestMinPoints = 2 * kBlock;
 
+// Side by side, no range of work smaller than this (below it the threads cost more than they save).
+constexpr std::size_t kMinCellsPerPart = 256;
+constexpr std::size_t kMinBeamsPerPart = 4096;
+
 }  // namespace
 
 std::size_t OutlierFilter::apply(const Sweep& sweep, Label subject, SweepLabels& labels)
@@ -132,19 +138,6 @@ std::size_t OutlierFilter::applySphere(const Sweep& sweep, Label subject, SweepL
   std::vector<Label>& labels2 = labels.echoes[1];
   // Decisions depend only on the gathered coordinates, never on labels, so writing labels
   // as we go cannot cascade.
-  auto remove = [&](std::uint32_t owner) {
-    const std::size_t beam = owner >> 2;
-    if (owner & 1u)
-    {
-      labels1[beam] = Label::nanPoint;
-      ++removed;
-    }
-    if (owner & 2u)
-    {
-      labels2[beam] = Label::nanPoint;
-      ++removed;
-    }
-  };
 
   const std::size_t cell_count = index_.cellCount();
   const std::uint64_t* keys = index_.cellKeys();
@@ -172,82 +165,113 @@ std::size_t OutlierFilter::applySphere(const Sweep& sweep, Label subject, SweepL
   constexpr std::int64_t kY = cell_key::kStepY;
   constexpr std::int64_t kX = cell_key::kStepX;
   constexpr std::array<std::int64_t, 8> column_offsets = { -kX, kX, -kY, kY, -kX - kY, -kX + kY, kX - kY, kX + kY };
-  std::array<std::size_t, 8> column_cursor{};
 
-  std::array<Range, 11> ranges;
-  for (std::size_t c = 0; c < cell_count; ++c)
-  {
-    const std::uint64_t key = keys[c];
-    std::size_t range_count = 0;
-    cellRange(c, c + 1, ranges[range_count++]);
-    if (c > 0 && keys[c - 1] == key - 1)
-      cellRange(c - 1, c, ranges[range_count++]);
-    if (c + 1 < cell_count && keys[c + 1] == key + 1)
-      cellRange(c + 1, c + 2, ranges[range_count++]);
-    for (std::size_t col = 0; col < column_offsets.size(); ++col)
-    {
-      // The clamped coordinates keep key + offset +- 1 inside the key's own fields.
-      const std::uint64_t low = static_cast<std::uint64_t>(static_cast<std::int64_t>(key) + column_offsets[col]) - 1;
-      std::size_t first = column_cursor[col];
-      while (first < cell_count && keys[first] < low)
-        ++first;
-      column_cursor[col] = first;
-      std::size_t last = first;
-      while (last < cell_count && keys[last] <= low + 2)
-        ++last;
-      if (last > first)
-        cellRange(first, last, ranges[range_count++]);
-    }
-
-    std::size_t total = 0;
-    for (std::size_t k = 0; k < range_count; ++k)
-      total += ranges[k].count;
-    const std::uint32_t begin = index_.cellBegin(c);
-    const std::uint32_t end = begin + index_.cellSize(c);
-    if (total < need)
-    {
-      for (std::uint32_t i = begin; i < end; ++i)
-        remove(owners[i]);
-      continue;
-    }
-    for (std::uint32_t i = begin; i < end; ++i)
-    {
-      const float qx = xs[i], qy = ys[i], qz = zs[i];
-      std::size_t count = 0;
-      std::size_t unseen = total;
-      for (std::size_t k = 0; k < range_count; ++k)
+  // The cells are judged in ranges side by side (each point's decision reads only the gathered
+  // coordinates); a range's column cursors start where a search from its first cell puts them.
+  const std::size_t parts = partsFor(cell_count, config_.threads, kMinCellsPerPart);
+  std::vector<std::size_t> removed_in(parts, 0);
+  runTasks(parts, config_.threads, [&](std::size_t part, std::size_t) {
+    const std::size_t first_cell = partBegin(cell_count, parts, part);
+    const std::size_t end_cell = partBegin(cell_count, parts, part + 1);
+    std::size_t& removed_here = removed_in[part];
+    auto remove = [&](std::uint32_t owner) {
+      const std::size_t beam = owner >> 2;
+      if (owner & 1u)
       {
-        const Range& range = ranges[k];
-        bool scan = true;
-        if (range.count >= kBoxTestMinPoints)
-        {
-          const float* box = range.box;
-          const float far_x = std::max(qx - box[0], box[3] - qx);
-          const float far_y = std::max(qy - box[1], box[4] - qy);
-          const float far_z = std::max(qz - box[2], box[5] - qz);
-          const float near_x = std::max(std::max(box[0] - qx, qx - box[3]), 0.0f);
-          const float near_y = std::max(std::max(box[1] - qy, qy - box[4]), 0.0f);
-          const float near_z = std::max(std::max(box[2] - qz, qz - box[5]), 0.0f);
-          if (far_x * far_x + far_y * far_y + far_z * far_z <= r2_inside)
-          {
-            count += range.count;
-            scan = false;
-          }
-          else if (near_x * near_x + near_y * near_y + near_z * near_z > r2_outside)
-          {
-            scan = false;
-          }
-        }
-        if (scan)
-          count = countWithin(xs, ys, zs, range.begin, range.end, qx, qy, qz, r2, count, need);
-        unseen -= range.count;
-        if (count >= need || count + unseen < need)
-          break;
+        labels1[beam] = Label::nanPoint;
+        ++removed_here;
       }
-      if (count < need)
-        remove(owners[i]);
+      if (owner & 2u)
+      {
+        labels2[beam] = Label::nanPoint;
+        ++removed_here;
+      }
+    };
+    std::array<std::size_t, 8> column_cursor{};
+    if (first_cell < end_cell)
+      for (std::size_t col = 0; col < column_offsets.size(); ++col)
+      {
+        const std::uint64_t low =
+            static_cast<std::uint64_t>(static_cast<std::int64_t>(keys[first_cell]) + column_offsets[col]) - 1;
+        column_cursor[col] = static_cast<std::size_t>(std::lower_bound(keys, keys + cell_count, low) - keys);
+      }
+    std::array<Range, 11> ranges;
+    for (std::size_t c = first_cell; c < end_cell; ++c)
+    {
+      const std::uint64_t key = keys[c];
+      std::size_t range_count = 0;
+      cellRange(c, c + 1, ranges[range_count++]);
+      if (c > 0 && keys[c - 1] == key - 1)
+        cellRange(c - 1, c, ranges[range_count++]);
+      if (c + 1 < cell_count && keys[c + 1] == key + 1)
+        cellRange(c + 1, c + 2, ranges[range_count++]);
+      for (std::size_t col = 0; col < column_offsets.size(); ++col)
+      {
+        // The clamped coordinates keep key + offset +- 1 inside the key's own fields.
+        const std::uint64_t low = static_cast<std::uint64_t>(static_cast<std::int64_t>(key) + column_offsets[col]) - 1;
+        std::size_t first = column_cursor[col];
+        while (first < cell_count && keys[first] < low)
+          ++first;
+        column_cursor[col] = first;
+        std::size_t last = first;
+        while (last < cell_count && keys[last] <= low + 2)
+          ++last;
+        if (last > first)
+          cellRange(first, last, ranges[range_count++]);
+      }
+
+      std::size_t total = 0;
+      for (std::size_t k = 0; k < range_count; ++k)
+        total += ranges[k].count;
+      const std::uint32_t begin = index_.cellBegin(c);
+      const std::uint32_t end = begin + index_.cellSize(c);
+      if (total < need)
+      {
+        for (std::uint32_t i = begin; i < end; ++i)
+          remove(owners[i]);
+        continue;
+      }
+      for (std::uint32_t i = begin; i < end; ++i)
+      {
+        const float qx = xs[i], qy = ys[i], qz = zs[i];
+        std::size_t count = 0;
+        std::size_t unseen = total;
+        for (std::size_t k = 0; k < range_count; ++k)
+        {
+          const Range& range = ranges[k];
+          bool scan = true;
+          if (range.count >= kBoxTestMinPoints)
+          {
+            const float* box = range.box;
+            const float far_x = std::max(qx - box[0], box[3] - qx);
+            const float far_y = std::max(qy - box[1], box[4] - qy);
+            const float far_z = std::max(qz - box[2], box[5] - qz);
+            const float near_x = std::max(std::max(box[0] - qx, qx - box[3]), 0.0f);
+            const float near_y = std::max(std::max(box[1] - qy, qy - box[4]), 0.0f);
+            const float near_z = std::max(std::max(box[2] - qz, qz - box[5]), 0.0f);
+            if (far_x * far_x + far_y * far_y + far_z * far_z <= r2_inside)
+            {
+              count += range.count;
+              scan = false;
+            }
+            else if (near_x * near_x + near_y * near_y + near_z * near_z > r2_outside)
+            {
+              scan = false;
+            }
+          }
+          if (scan)
+            count = countWithin(xs, ys, zs, range.begin, range.end, qx, qy, qz, r2, count, need);
+          unseen -= range.count;
+          if (count >= need || count + unseen < need)
+            break;
+        }
+        if (count < need)
+          remove(owners[i]);
+      }
     }
-  }
+  });
+  for (const std::size_t r : removed_in)
+    removed += r;
   return removed;
 }
 
@@ -322,28 +346,36 @@ std::size_t OutlierFilter::applyOnGrid(const Sweep& sweep, const SweepSampling& 
   const BeamNeighbourhood neighbourhood(sampling, config_.neighbourhood);
   const std::size_t need = static_cast<std::size_t>(config_.min_neighbors);
   const std::size_t beams = sweep.beamCount();
-  // Decisions read subject_ (the labels before the call) only, so removals cannot cascade.
-  for (std::size_t b = 0; b < beams; ++b)
-  {
-    const std::uint8_t bits = subject_[b];
-    if (bits == 0)
-      continue;
-    if ((bits & kFirst) && supportOnGrid(sweep, neighbourhood, b, 0, need) < need)
+  // Decisions read subject_ (the labels before the call) only, so removals cannot cascade, and
+  // ranges of beams are judged side by side.
+  const std::size_t parts = partsFor(beams, config_.threads, kMinBeamsPerPart);
+  std::vector<std::size_t> removed_in(parts, 0);
+  runTasks(parts, config_.threads, [&](std::size_t part, std::size_t) {
+    std::size_t& removed_here = removed_in[part];
+    for (std::size_t b = partBegin(beams, parts, part); b < partBegin(beams, parts, part + 1); ++b)
     {
-      labels.echoes[0][b] = Label::nanPoint;
-      ++removed;
-      if (bits & kRepeated)
+      const std::uint8_t bits = subject_[b];
+      if (bits == 0)
+        continue;
+      if ((bits & kFirst) && supportOnGrid(sweep, neighbourhood, b, 0, need) < need)
+      {
+        labels.echoes[0][b] = Label::nanPoint;
+        ++removed_here;
+        if (bits & kRepeated)
+        {
+          labels.echoes[1][b] = Label::nanPoint;
+          ++removed_here;
+        }
+      }
+      if ((bits & kSecond) && supportOnGrid(sweep, neighbourhood, b, 1, need) < need)
       {
         labels.echoes[1][b] = Label::nanPoint;
-        ++removed;
+        ++removed_here;
       }
     }
-    if ((bits & kSecond) && supportOnGrid(sweep, neighbourhood, b, 1, need) < need)
-    {
-      labels.echoes[1][b] = Label::nanPoint;
-      ++removed;
-    }
-  }
+  });
+  for (const std::size_t r : removed_in)
+    removed += r;
   return removed;
 }
 

@@ -204,9 +204,7 @@ void Pipeline::detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, 
     r.mixed_pixel_beams = s.mixed_pixels.release(sweep, r.sampling, r.objects, r.labels);
   r.times.object_extraction = clock.lap();
   if (!r.objects.empty())
-    s.type_analyzer.beginSweep(sweep);
-  for (ReflectiveObject& object : r.objects)
-    s.type_analyzer.analyze(sweep, sensor_origin, r.labels, evidence(sweep, sensor_origin), object);
+    s.type_analyzer.analyzeAll(sweep, sensor_origin, r.labels, evidence(sweep, sensor_origin), r.objects);
   r.times.type_analysis = clock.lap();
 }
 
@@ -214,7 +212,7 @@ const ReflectionEvidence& Pipeline::evidence(const Sweep& sweep, const Eigen::Ve
 {
   if (!evidence_built_)
   {
-    evidence_.build(sweep, result_.labels, sensor_origin);
+    evidence_.build(sweep, result_.labels, sensor_origin, configs_.threads);
     evidence_built_ = true;
   }
   return evidence_;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ohm_mirror_detector3d/core/parallel.h"
+
 namespace ohm_mirror_detector3d
 {
 namespace core
@@ -98,6 +100,9 @@ Eigen::Vector3f flatSurfaceNormal(const Matrix& covariance)
 constexpr std::size_t kSeparationRank = 3;
 constexpr std::size_t kMinSeparationSamples = 100;
 
+// Side by side (build's threads), no range of returns smaller than this.
+constexpr std::size_t kMinSlotsPerPart = 16384;
+
 float median(std::vector<float>& values)
 {
   if (values.empty())
@@ -177,7 +182,8 @@ const char* reflectionOutcomeName(ReflectionOutcome outcome)
   return "invalid-outcome";
 }
 
-void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin)
+void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
+                               int threads)
 {
   origin_ = sensor_origin;
   step_ = 0.0f;
@@ -260,54 +266,98 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   // that numbered the beam instead had to be divided into echo and beam for every return: that
   // loop took 2.1 ms of the 1080 x 400 sweep's 12 ms build.
   indexed_intensities_.resize(2 * beams);
-  std::size_t count = 0;
-  // The echo separation on the way: the kSeparationRank smallest distances between a beam's two
-  // echoes (ascending), over the double echoes whose first echo is indexed too.
-  std::array<float, kSeparationRank> smallest;
-  smallest.fill(std::numeric_limits<float>::infinity());
-  std::size_t double_echoes = 0;
-  for (std::size_t k = 0; k < 2; ++k)
+  // Echo 1's returns, then echo 2's (slot s: echo s / beams, beam s % beams), in ranges side by
+  // side: each range counts what it indexes, then writes it where the ranges before it end.
+  auto indexed = [&](std::size_t k, std::size_t i) {
+    const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+    return labels.echoes[k][i] != Label::nanPoint && p.allFinite() && !(k == 1 && p == first[i]);
+  };
+  const std::size_t slots = 2 * beams;
+  const std::size_t parts = partsFor(slots, threads, kMinSlotsPerPart);
+  struct Part
   {
-    const std::vector<Eigen::Vector3f>& points = sweep.echoes[k].points;
-    const std::vector<float>& intensities = sweep.echoes[k].intensities;
-    for (std::size_t i = 0; i < beams; ++i)
+    std::size_t count = 0, offset = 0, double_echoes = 0;
+    // The echo separation on the way: the kSeparationRank smallest distances between a beam's two
+    // echoes (ascending), over the double echoes whose first echo is indexed too.
+    std::array<float, kSeparationRank> smallest;
+  };
+  std::vector<Part> part_results(parts);
+  // A range's slots as (echo, beam), without a division per slot.
+  auto forEachSlot = [&](std::size_t part, auto visit) {
+    const std::size_t begin = partBegin(slots, parts, part), end = partBegin(slots, parts, part + 1);
+    std::size_t k = begin / beams, i = begin % beams;
+    for (std::size_t s = begin; s < end; ++s)
     {
-      if (labels.echoes[k][i] == Label::nanPoint || !points[i].allFinite() || (k == 1 && points[i] == first[i]))
-        continue;
-      const Eigen::Vector3f x = points[i] - origin_;
-      xs[count] = x.x();
-      ys[count] = x.y();
-      zs[count] = x.z();
-      ids[count] = static_cast<std::uint32_t>(count);
-      indexed_intensities_[count] = i < intensities.size() ? intensities[i] : std::numeric_limits<float>::quiet_NaN();
-      ++count;
-      if (k == 1 && usable(i))
+      visit(k, i);
+      if (++i == beams)
       {
-        ++double_echoes;
-        float separation = std::fabs(x.norm() - (first[i] - origin_).norm());
-        for (float& s : smallest)
-          if (separation < s)
-            std::swap(separation, s);
+        i = 0;
+        ++k;
       }
     }
+  };
+  runTasks(parts, threads, [&](std::size_t part, std::size_t) {
+    Part& r = part_results[part];
+    forEachSlot(part, [&](std::size_t k, std::size_t i) { r.count += indexed(k, i) ? 1 : 0; });
+  });
+  for (std::size_t part = 1; part < parts; ++part)
+    part_results[part].offset = part_results[part - 1].offset + part_results[part - 1].count;
+  const std::size_t count = part_results.back().offset + part_results.back().count;
+  runTasks(parts, threads, [&](std::size_t part, std::size_t) {
+    Part& r = part_results[part];
+    r.smallest.fill(std::numeric_limits<float>::infinity());
+    std::size_t at = r.offset;
+    forEachSlot(part, [&](std::size_t k, std::size_t i) {
+        if (!indexed(k, i))
+          return;
+        const std::vector<float>& intensities = sweep.echoes[k].intensities;
+        const Eigen::Vector3f x = sweep.echoes[k].points[i] - origin_;
+        xs[at] = x.x();
+        ys[at] = x.y();
+        zs[at] = x.z();
+        ids[at] = static_cast<std::uint32_t>(at);
+        indexed_intensities_[at] = i < intensities.size() ? intensities[i] : std::numeric_limits<float>::quiet_NaN();
+        ++at;
+        if (k == 1 && usable(i))
+        {
+          ++r.double_echoes;
+          float separation = std::fabs(x.norm() - (first[i] - origin_).norm());
+          for (float& smallest : r.smallest)
+            if (separation < smallest)
+              std::swap(separation, smallest);
+        }
+    });
+  });
+  std::size_t double_echoes = 0;
+  std::vector<float> smallest;
+  for (const Part& r : part_results)
+  {
+    double_echoes += r.double_echoes;
+    smallest.insert(smallest.end(), r.smallest.begin(), r.smallest.end());
   }
+  std::sort(smallest.begin(), smallest.end());
   if (double_echoes >= kMinSeparationSamples)
-    echo_separation_ = smallest.back();
+    echo_separation_ = smallest[kSeparationRank - 1];
   index_.setPointCount(count);
   SpatialIndex::Options options;
   options.lookup = true;
   options.dense_cells = 6 * static_cast<std::size_t>(cells_per_side_) * cells_per_side_;
+  options.threads = threads;
   index_.build(DirectionCells{ inverse_cell_, cells_per_side_ }, options);
   const float* sorted_x = index_.sortedX();
   const float* sorted_y = index_.sortedY();
   const float* sorted_z = index_.sortedZ();
-  squared_ranges_.resize(count);
-  for (std::size_t j = 0; j < count; ++j)
-    squared_ranges_[j] = sorted_x[j] * sorted_x[j] + sorted_y[j] * sorted_y[j] + sorted_z[j] * sorted_z[j];
   const std::uint32_t* sorted_ids = index_.sortedId();
+  squared_ranges_.resize(count);
   intensities_.resize(count);
-  for (std::size_t j = 0; j < count; ++j)
-    intensities_[j] = indexed_intensities_[sorted_ids[j]];
+  const std::size_t sorted_parts = partsFor(count, threads, kMinSlotsPerPart);
+  runTasks(sorted_parts, threads, [&](std::size_t part, std::size_t) {
+    for (std::size_t j = partBegin(count, sorted_parts, part); j < partBegin(count, sorted_parts, part + 1); ++j)
+    {
+      squared_ranges_[j] = sorted_x[j] * sorted_x[j] + sorted_y[j] * sorted_y[j] + sorted_z[j] * sorted_z[j];
+      intensities_[j] = indexed_intensities_[sorted_ids[j]];
+    }
+  });
 }
 
 template <typename Run>

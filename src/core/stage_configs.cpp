@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "ohm_mirror_detector3d/core/param_table.h"
+#include "ohm_mirror_detector3d/core/parallel.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -95,6 +96,10 @@ StageConfigs stageConfigs(const Params& params)
                                                 params.intensity_faint_share_glass, params.intensity_faint_share_sigma);
   configs.intensity.model.echo_ratio = feature(params.intensity_echo_ratio_mirror, params.intensity_echo_ratio_glass,
                                                params.intensity_echo_ratio_sigma);
+  configs.threads = isAutomatic(params, "threads") ? automaticThreadCount() : params.threads;
+  configs.outlier_filter.threads = configs.threads;
+  configs.object_type.threads = configs.threads;
+  configs.cone_labelling.threads = configs.threads;
   return configs;
 }
 

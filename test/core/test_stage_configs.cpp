@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "ohm_mirror_detector3d/core/param_table.h"
+#include "ohm_mirror_detector3d/core/parallel.h"
 #include "ohm_mirror_detector3d/core/stage_configs.h"
 
 namespace ohm_mirror_detector3d
@@ -44,6 +45,10 @@ TEST(StageConfigs, EachStageGetsItsOwnValuesFromTheParameters)
   EXPECT_EQ(c.object_type.icp_min_inlier_fraction, p.icp_min_inlier_fraction);
   EXPECT_EQ(c.cone_labelling.plane_threshold, p.plane_threshold);
   EXPECT_EQ(c.cone_labelling.cone_margin, p.vision_cone_margin);
+  EXPECT_EQ(c.threads, p.threads);
+  EXPECT_EQ(c.outlier_filter.threads, p.threads);
+  EXPECT_EQ(c.object_type.threads, p.threads);
+  EXPECT_EQ(c.cone_labelling.threads, p.threads);
   EXPECT_TRUE(c.growth.panes);
   EXPECT_EQ(c.growth.mirrors, p.grow_objects == 1);
   EXPECT_FLOAT_EQ(c.growth.plane_threshold, static_cast<float>(p.plane_threshold));
@@ -65,6 +70,15 @@ bool differsIn(const core::FeatureModel& a, const core::FeatureModel& b)
 bool differsIn(const core::IntensityModel& a, const core::IntensityModel& b)
 {
   return differsIn(a.haze, b.haze) || differsIn(a.faint_share, b.faint_share) || differsIn(a.echo_ratio, b.echo_ratio);
+}
+
+TEST(StageConfigs, AutomaticThreadsAreTheMachinesCoresUpToFour)
+{
+  const core::StageConfigs c = core::stageConfigs(core::Params());
+  EXPECT_EQ(c.threads, core::automaticThreadCount());
+  EXPECT_GE(c.threads, 1);
+  EXPECT_LE(c.threads, core::kMaxAutomaticThreads);
+  EXPECT_EQ(c.cone_labelling.threads, c.threads);
 }
 
 TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
@@ -112,7 +126,10 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.object_map.forgetting != before.object_map.forgetting ||
         after.object_map.type_log_odds != before.object_map.type_log_odds ||
         after.intensity.enabled != before.intensity.enabled ||
-        after.intensity.type_log_odds != before.intensity.type_log_odds || differsIn(after.intensity.model, before.intensity.model);
+        after.intensity.type_log_odds != before.intensity.type_log_odds || differsIn(after.intensity.model, before.intensity.model) ||
+        after.outlier_filter.threads != before.outlier_filter.threads ||
+        after.object_type.threads != before.object_type.threads ||
+        after.cone_labelling.threads != before.cone_labelling.threads;
     EXPECT_TRUE(differs) << param.name << " reaches no stage";
   }
 }

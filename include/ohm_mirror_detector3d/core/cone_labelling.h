@@ -38,6 +38,7 @@ struct ConeLabellingConfig
 {
   double plane_threshold;  // d_thres_plane [m]: half thickness of a surface
   double cone_margin;      // d_thres_visionCone [m]: growth of the vision cone on every side
+  int threads = 1;         // core/parallel.h: ranges of beams are labelled side by side
 };
 
 class ConeLabelling
@@ -70,6 +71,7 @@ public:
 private:
   float plane_threshold_;
   float cone_margin_;
+  int threads_;
 };
 
 }  // namespace core

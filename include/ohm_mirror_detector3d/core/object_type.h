@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <vector>
 
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
 #include "ohm_mirror_detector3d/core/reflection_evidence.h"
@@ -23,6 +24,7 @@ struct ObjectTypeConfig
   double icp_fitness_threshold;    // [m^2]: mean squared landing distance of a mirror's phantoms
   int icp_min_points;              // fewest phantoms to refine a plane, and decided points to type it
   double icp_min_inlier_fraction;  // share of the decided points that must be phantoms for a mirror
+  int threads = 1;                 // core/parallel.h: analyzeAll() decides objects side by side
 };
 
 class ObjectTypeAnalyzer
@@ -53,6 +55,11 @@ public:
   //   the sensor saw; unknown if not.
   void analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                const ReflectionEvidence& evidence, ReflectiveObject& object);
+  // beginSweep(sweep), then analyze() for every object, the objects shared among config.threads
+  // threads (the same result as one after the other: an object's decision reads only the sweep,
+  // its labels and the evidence).
+  void analyzeAll(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
+                  const ReflectionEvidence& evidence, std::vector<ReflectiveObject>& objects);
 
   // Optional, for speed: bounding boxes of blocks of 64 beams of this sweep, so that analyze()
   // skips blocks that cannot hold a point it looks for (same result). Valid for this sweep
@@ -69,19 +76,24 @@ public:
                         const ReflectionEvidence& evidence, ReflectiveObject& object);
 
 private:
-  // With enough of buffers_->landed (their estimated count, `weight` points each, at least
+  struct Buffers;
+  struct SweepBoxes;
+  void analyzeWith(Buffers& buffers, const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+                   const SweepLabels& labels, const ReflectionEvidence& evidence, ReflectiveObject& object);
+  // With enough of buffers.landed (their estimated count, `weight` points each, at least
   // icp_min_points, and 3 sampled), refines object's plane from them and records it: the
   // evidence's plane_refined and plane_correction, the landing tolerance's tilt term. False
   // (the object as it was) otherwise or when the refinement is refused.
-  bool refineFromLanded(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
+  bool refineFromLanded(Buffers& buffers, const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
                         double weight, ReflectiveObject& object);
-  // Refines object's plane from buffers_->landed (points behind that land on seen geometry).
-  PlaneRefinement refinePlane(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
+  // Refines object's plane from buffers.landed (points behind that land on seen geometry).
+  PlaneRefinement refinePlane(Buffers& buffers, const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
                               double weight, ReflectiveObject& object);
 
   ObjectTypeConfig config_;
-  struct Buffers;
-  std::unique_ptr<Buffers> buffers_;
+  std::unique_ptr<SweepBoxes> boxes_;
+  // One per worker of analyzeAll(); the first serves the single-object calls.
+  std::vector<std::unique_ptr<Buffers>> buffers_;
 };
 
 }  // namespace core

@@ -22,6 +22,7 @@ struct OutlierFilterConfig
   // beams around (BeamNeighbourhood), which grows with range and the angular step.
   bool follows_sampling = false;
   BeamNeighbourhoodConfig neighbourhood;
+  int threads = 1;  // core/parallel.h
 };
 
 // Finds the neighbours of points within a radius among a chosen subset of a sweep's points

@@ -89,7 +89,9 @@ public:
   // two; a sweep of one row, an unorganised cloud, takes the nearest return beyond a beam's row
   // neighbours for its column). A sweep with no neighbouring returns gets no index (every test
   // says noReturn).
-  void build(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin);
+  // The index is built in ranges of returns on `threads` threads (core/parallel.h; the same
+  // index for any number).
+  void build(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin, int threads = 1);
 
   // The coarser angular step of the sweep [rad], 0 when there is no index.
   float angularStep() const { return step_; }

@@ -18,6 +18,8 @@
 #include <utility>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/parallel.h"
+
 namespace ohm_mirror_detector3d
 {
 namespace core
@@ -132,6 +134,8 @@ class SpatialIndex
 public:
   static constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
   static constexpr std::uint64_t kEmptyKey = std::numeric_limits<std::uint64_t>::max();
+  // Side by side (Options::threads), no range of points smaller than this.
+  static constexpr std::size_t kMinPointsPerPart = 16384;
 
   struct Options
   {
@@ -143,6 +147,9 @@ public:
     // When > 0: the keys are cell numbers below this, numbered so that z runs fastest, and
     // every number is a cell (empty or not): cell index == key, no hashing (block 1, no boxes).
     std::size_t dense_cells = 0;
+    // The points' keys are worked out in ranges on this many threads (core/parallel.h; the
+    // same index for any number).
+    int threads = 1;
   };
 
   // Room for `capacity` points: pointX()[i] .. pointId()[i] for i < capacity, written by the
@@ -165,16 +172,27 @@ public:
     const float* zs = zs_.data();
     std::uint64_t* keys = point_keys_.data();
     // Runs of equal keys in point order: at least the number of distinct cells, a cheap
-    // bound for sizing the table.
+    // bound for sizing the table. Worked out in ranges side by side, each range's first key
+    // compared with the key before it.
+    const std::size_t parts = partsFor(n, options.threads, kMinPointsPerPart);
+    std::vector<std::size_t> runs_in(parts, 0);
+    runTasks(parts, options.threads, [&](std::size_t part, std::size_t) {
+      const std::size_t begin = partBegin(n, parts, part), end = partBegin(n, parts, part + 1);
+      std::uint64_t last_key = begin > 0 ? grid.key(xs[begin - 1], ys[begin - 1], zs[begin - 1]) :
+                                           std::numeric_limits<std::uint64_t>::max();
+      std::size_t runs = 0;
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        const std::uint64_t key = grid.key(xs[i], ys[i], zs[i]);
+        keys[i] = key;
+        runs += key != last_key ? 1 : 0;
+        last_key = key;
+      }
+      runs_in[part] = runs;
+    });
     std::size_t runs = 0;
-    std::uint64_t last_key = std::numeric_limits<std::uint64_t>::max();
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      const std::uint64_t key = grid.key(xs[i], ys[i], zs[i]);
-      keys[i] = key;
-      runs += key != last_key ? 1 : 0;
-      last_key = key;
-    }
+    for (const std::size_t r : runs_in)
+      runs += r;
     if (options.dense_cells > 0)
       groupDense(options.dense_cells);
     else

@@ -39,6 +39,7 @@ struct StageConfigs
   ReflectionChainConfig reflection_chains;
   ObjectMapConfig object_map;  // post_filter.h
   IntensityEvidenceConfig intensity;
+  int threads = 1;  // core/parallel.h: resolved (automatic: automaticThreadCount())
 };
 
 // With outlierFilter_searchRadius automatic the outlier filter, its errorSurface pass and the

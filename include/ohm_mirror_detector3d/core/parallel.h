@@ -1,0 +1,93 @@
+// Work shared among threads, the same result for any number of them: the stages split their
+// work into tasks that write disjoint data (one object each, a range of beams each), and combine
+// what the tasks counted in task order afterwards, so that one thread and eight give the same
+// labels, objects and counts. Threads come from OpenMP (as PCL's own parallel stages); a build
+// without it runs the tasks one after the other.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <vector>
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+// The threads a pipeline uses when the `threads` parameter is left automatic: the machine's
+// cores, at most kMaxAutomaticThreads (beyond four the stages that split their work gain little
+// on sweeps of up to a million returns, and a robot runs more than this filter).
+constexpr int kMaxAutomaticThreads = 4;
+int automaticThreadCount();
+
+// The workers runTasks uses for `tasks` tasks on up to `threads` threads (at least 1): a caller
+// with scratch memory per worker makes this many.
+inline std::size_t workersFor(std::size_t tasks, int threads)
+{
+  return std::max<std::size_t>(1, std::min<std::size_t>(tasks, static_cast<std::size_t>(std::max(threads, 1))));
+}
+
+// Calls task(t, worker) for t in [0, tasks) on workersFor(tasks, threads) threads, each task once,
+// in no particular order; `worker` (< workersFor(tasks, threads)) is the thread's own number, for
+// its scratch memory. The tasks must not write the same data. An exception thrown by a task
+// leaves runTasks (side by side: after the other tasks ran, the first in task order), never a
+// worker thread, where it could only end the process.
+template <typename Task>
+void runTasks(std::size_t tasks, int threads, Task task)
+{
+  const std::size_t workers = workersFor(tasks, threads);
+  if (tasks == 0)
+    return;
+  if (workers == 1)
+  {
+    for (std::size_t t = 0; t < tasks; ++t)
+      task(t, std::size_t(0));
+    return;
+  }
+  std::vector<std::exception_ptr> failures(tasks);
+  // Each thread takes the next task when done with one: tasks differ in size (an object behind
+  // which half the sweep lies, one with nothing behind it), and on a shared machine a thread may
+  // be slowed by others.
+  std::atomic<std::size_t> next_task{ 0 };
+  std::atomic<std::size_t> next_worker{ 0 };
+#pragma omp parallel num_threads(static_cast<int>(workers))
+  {
+    const std::size_t worker = next_worker++;
+    for (std::size_t t = next_task++; t < tasks; t = next_task++)
+    {
+      try
+      {
+        task(t, worker);
+      }
+      catch (...)
+      {
+        failures[t] = std::current_exception();
+      }
+    }
+  }
+  for (const std::exception_ptr& failure : failures)
+    if (failure)
+      std::rethrow_exception(failure);
+}
+
+// How many ranges to cut `items` into for `threads` threads: one for one thread, else a few per
+// thread (ranges differ in their work) but none below `min_items` items.
+constexpr std::size_t kRangesPerThread = 4;
+inline std::size_t partsFor(std::size_t items, int threads, std::size_t min_items)
+{
+  if (threads <= 1)
+    return 1;
+  const std::size_t most = kRangesPerThread * static_cast<std::size_t>(threads);
+  return std::max<std::size_t>(1, std::min(most, items / std::max<std::size_t>(min_items, 1)));
+}
+
+// [begin, end) of range `part` when [0, size) is cut into `parts` nearly equal ranges: range
+// `part` begins at partBegin(size, parts, part) and ends where range part + 1 begins.
+inline std::size_t partBegin(std::size_t size, std::size_t parts, std::size_t part)
+{
+  return size / parts * part + std::min(part, size % parts);
+}
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d
