@@ -8,12 +8,12 @@ SANITIZED_BASE_FLAGS="-DEIGEN_MALLOC_ALREADY_ALIGNED=1 -std=c++17 -O1 -g -fno-om
 SANITIZED_INCLUDES="-I$repo/include -I$repo/test/fuzz -I$ws/devel/include -I/usr/include/pcl-1.13 -I/usr/include/eigen3"
 # The ROS-side sources the input adapters need (no nodelet, no roscpp node).
 SANITIZED_ROS_SOURCES=$(for f in point_fields conversions dual_return md5 message_walker problem_throttle hokuyo3d_legacy \
-  legacy_output message_pipeline multi_echo_scan parameters input_modes sensor_pose_queue sweep_input; do
+  legacy_output legacy_outputs message_pipeline multi_echo_scan parameters input_modes sensor_pose_queue sweep_input; do
   echo "$repo/src/ros/$f.cpp"; done)
 # dynamic_reconfigure's mutex library: fromConfig (parameters.cpp) reads PreFilterConfig's descriptions.
 SANITIZED_LIBS="-lpcl_registration -lpcl_sample_consensus -lpcl_search -lpcl_kdtree -lpcl_features -lpcl_common \
   -ltf2_ros -ltf2 -ltopic_tools -lmessage_filters -lroscpp -lrosconsole -lroscpp_serialization -lrostime -lcpp_common \
-  -lboost_system -lpthread -ldynamic_reconfigure_config_init_mutex"
+  -lboost_system -lpthread -ldynamic_reconfigure_config_init_mutex -lyaml-cpp"
 
 # compile_in_parallel HEADER_DIRS... < SOURCES: compiles each source (one per line) into
 # $out/obj/<folder>_<name>.o with $CXX $CXXFLAGS $COMPILE_ONLY_FLAGS, two at a time. An object is
