@@ -175,6 +175,8 @@ def main():
     ap.add_argument('--binary', required=True, help='bench_pipeline executable')
     ap.add_argument('--output', default=os.path.join(HERE, 'results.json'))
     ap.add_argument('--repeats', type=int, default=20)
+    ap.add_argument('--threads', type=int, default=0,
+                    help="the pipeline's threads parameter (0: automatic, the machine's cores up to 4)")
     ap.add_argument('--warmup', type=int, default=2)
     ap.add_argument('--budget', type=float, default=30.0,
                     help='seconds of measured runs per sweep after which fewer repeats (>= 5) suffice')
@@ -221,7 +223,8 @@ def main():
                 simulated = time.perf_counter() - started
                 baseline = args.baseline_repeats if size == '1080x100' else min(args.baseline_repeats, 1)
                 out = subprocess.run([args.binary, '--repeats', str(args.repeats), '--warmup', str(args.warmup),
-                                      '--budget', str(args.budget), '--baseline', str(baseline), path],
+                                      '--budget', str(args.budget), '--baseline', str(baseline),
+                                      '--threads', str(args.threads), path],
                                      check=True, stdout=subprocess.PIPE, universal_newlines=True).stdout
                 r = json.loads(out.strip().splitlines()[-1])
                 r.update(size=size, scene=scene, scanner=scanner.name, simulation_s=round(simulated, 2))
@@ -246,7 +249,7 @@ def main():
 
     report = {
         'machine': machine(),
-        'settings': {'threads': 1, 'build_type': 'Release', 'warmup': args.warmup, 'repeats': args.repeats,
+        'settings': {'threads': args.threads or 'automatic (%d)' % min(4, os.cpu_count() or 1), 'build_type': 'Release', 'warmup': args.warmup, 'repeats': args.repeats,
                      'budget_s': args.budget, 'seed': SEED, 'range_noise_m': NOISE,
                      'params': 'launch/rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours, '
                                'd_min 0.1, d_max 30) for every size',
@@ -266,11 +269,12 @@ def main():
         json.dump(report, f, indent=1)
 
     m = report['machine']
-    print('Machine: %s, %d cores (nproc), load average %s at the start, single-threaded run. Parameters: '
+    print('Machine: %s, %d cores (nproc), load average %s at the start, threads %s. Parameters: '
           'rotating_hokuyo_params.yaml (outlier radius 0.2 m, 5 neighbours) for all sizes. Times are wall-clock '
-          '(steady_clock) medians; CPU = the thread\'s CPU time, less sensitive to other load on the machine. PCL '
-          'baseline: median of %d run(s) at 1080x100, 1 run at the bigger sizes (it is slow).\n'
-          % (m['cpu_model'], m['nproc'], m['load_average'], args.baseline_repeats))
+          '(steady_clock) medians; CPU = the process\'s CPU time (all threads), less sensitive to other load on '
+          'the machine. PCL baseline (single-threaded): median of %d run(s) at 1080x100, 1 run at the bigger sizes '
+          '(it is slow).\n'
+          % (m['cpu_model'], m['nproc'], m['load_average'], report['settings']['threads'], args.baseline_repeats))
     print(table(results))
     print('\nExtent growth (grow_objects 1: mirror and glass growth; the defaults grow panes only) and reflection '
           'chains, the same sweeps and repeats:\n')

@@ -12,6 +12,9 @@ Frames (simulated once, here, with this checkout's simulator, then handed to eve
   output records (what prefilter_bag does per frame besides (de)serialising the messages), and
   the core's time.
 
+A build with the `threads` parameter runs each frame twice: threads automatic (the machine's cores,
+at most 4; what a user gets) and threads 1 (rows ", threads 1"); an older build once.
+
 Every build runs in a process of its own (its bindings first on PYTHONPATH), the builds in turn,
 --rounds times, so that load on the machine hits both alike.
 
@@ -52,17 +55,26 @@ def simulate_frames(path):
 
 
 def worker(frames_path, repeats):
+    import dataclasses
     import time
     from ohm_mirror_detector3d import core
     f = np.load(frames_path)
     out = {'module': core.__file__}
-    hokuyo = core.Pipeline(core.Params.from_yaml(HOKUYO_PARAMS))
-    defaults = core.Pipeline()
-    dual = core.Pipeline()
-    cases = {'1080x400 hokuyo params': lambda: hokuyo.filter(f['e1'], f['e2'], f['i1'], f['i2']),
-             '1080x400 defaults': lambda: defaults.filter(f['e1'], f['e2'], f['i1'], f['i2']),
-             '64x600 dual_return defaults': lambda: dual.filter_dual_return(
-                 f['cloud_xyz'], f['cloud_return'], f['cloud_ring'], f['cloud_intensity'])}
+    # A build with the `threads` parameter runs every frame with it automatic (the machine's cores,
+    # at most 4) and with one thread; an older build as it is.
+    has_threads = 'threads' in {field.name for field in dataclasses.fields(core.Params)}
+    variants = [('', None)] + ([(', threads 1', 1)] if has_threads else [])
+    cases = {}
+    for suffix, threads in variants:
+        def pipeline(params):
+            return core.Pipeline(params if threads is None else dataclasses.replace(params, threads=threads))
+        hokuyo = pipeline(core.Params.from_yaml(HOKUYO_PARAMS))
+        defaults = pipeline(core.Params())
+        dual = pipeline(core.Params())
+        cases['1080x400 hokuyo params' + suffix] = lambda p=hokuyo: p.filter(f['e1'], f['e2'], f['i1'], f['i2'])
+        cases['1080x400 defaults' + suffix] = lambda p=defaults: p.filter(f['e1'], f['e2'], f['i1'], f['i2'])
+        cases['64x600 dual_return defaults' + suffix] = lambda p=dual: p.filter_dual_return(
+            f['cloud_xyz'], f['cloud_return'], f['cloud_ring'], f['cloud_intensity'])
     for name, run in cases.items():
         run()
         core_s, wall_s = [], []
@@ -111,12 +123,15 @@ def main():
           '| this wall ms | other wall ms | wall ratio other/this |')
     print('|---|---|---|---|---|---|---|---|---|')
     for case in cases:
+        def has(name):
+            return name in results and case in results[name][0]
+
         def median(name, key):
-            return float(np.median([r[case][key] for r in results[name]])) if name in results else float('nan')
+            return float(np.median([r[case][key] for r in results[name]])) if has(name) else float('nan')
         this_core, other_core = median('this', 'core_ms'), median('other', 'core_ms')
         this_wall, other_wall = median('this', 'wall_ms'), median('other', 'wall_ms')
         objects = '%d / %s' % (results['this'][0][case]['objects'],
-                               results['other'][0][case]['objects'] if 'other' in results else '-')
+                               results['other'][0][case]['objects'] if has('other') else '-')
         print('| %s | %s | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |' % (
             case, objects, results['this'][0][case]['points'], this_core, other_core, other_core / this_core,
             this_wall, other_wall, other_wall / this_wall))
