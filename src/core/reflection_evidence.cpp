@@ -359,9 +359,13 @@ template <typename Visit>
 void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, const Eigen::Vector3f& unit, float radius,
                                      std::size_t max_visits, Visit visit) const
 {
+  // Everything the loop reads, in locals: through references and members the compiler reloaded
+  // them for every return (a visit's writes might have changed them, as far as it could tell).
   const float* xs = index_.sortedX();
   const float* ys = index_.sortedY();
   const float* zs = index_.sortedZ();
+  const float* squared_ranges = squared_ranges_.data();
+  const float ux = unit.x(), uy = unit.y(), uz = unit.z();
   const float cosine_bound = 1.0f + radius * radius * (1.0f + kWindowSlack);
   std::size_t stride = 1;
   if (max_visits > 0)
@@ -377,8 +381,8 @@ void ReflectionEvidence::forEachNear(const Eigen::Vector3f& direction, const Eig
     position += end - begin;
     for (std::size_t j = begin + first; j < end; j += stride)
     {
-      const float depth = xs[j] * unit.x() + ys[j] * unit.y() + zs[j] * unit.z();
-      if (depth > 0.0f && squared_ranges_[j] <= depth * depth * cosine_bound)
+      const float depth = xs[j] * ux + ys[j] * uy + zs[j] * uz;
+      if (depth > 0.0f && squared_ranges[j] <= depth * depth * cosine_bound)
         visit(Eigen::Vector3f(xs[j], ys[j], zs[j]), j);
     }
   });
@@ -416,18 +420,21 @@ ReflectionEvidence::Sighting ReflectionEvidence::sight(const Eigen::Vector3f& q,
   const Eigen::Vector3f helper = std::fabs(along.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
   sighting.e1 = along.cross(helper).normalized();
   sighting.e2 = along.cross(sighting.e1);
-  const Eigen::Vector3f& e1 = sighting.e1;
-  const Eigen::Vector3f& e2 = sighting.e2;
+  // The basis and the count in locals while the window is gathered: as members of `sighting`,
+  // which the candidates are written into, the compiler reloaded and stored them for every one.
+  const Eigen::Vector3f along_local = along;
+  const Eigen::Vector3f e1 = sighting.e1;
+  const Eigen::Vector3f e2 = sighting.e2;
 
   // The returns within the window, in q's tangent basis; the nearest in each quadrant around
   // q's direction are the corners of the patch of range image that q's direction falls in.
   std::array<Candidate, kMaxCandidates>& candidates = sighting.candidates;
-  std::size_t& count = sighting.count;
+  std::size_t count = 0;
   std::array<int, 4> nearest = { -1, -1, -1, -1 };
   std::array<float, 4> nearest_offset = { 0.0f, 0.0f, 0.0f, 0.0f };
   const float radius_squared = radius_ * radius_;
-  forEachNear(q, along, radius_, 0, [&](const Eigen::Vector3f& x, std::size_t j) {
-    const float depth = x.dot(along);
+  forEachNear(q, along_local, radius_, 0, [&](const Eigen::Vector3f& x, std::size_t j) {
+    const float depth = x.dot(along_local);
     if (!(depth > 0.0f) || count == kMaxCandidates)
       return;
     const float inverse_depth = 1.0f / depth;
@@ -444,6 +451,7 @@ ReflectionEvidence::Sighting ReflectionEvidence::sight(const Eigen::Vector3f& q,
     }
     candidates[count++] = Candidate{ a, b, depth, x.norm(), x, j };
   });
+  sighting.count = count;
   std::array<int, 4>& corners = sighting.corners;
   std::size_t& corner_count = sighting.corner_count;
   for (int k : nearest)
