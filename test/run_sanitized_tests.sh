@@ -9,8 +9,7 @@ repo=$1 ws=$2 out=$3
 CXX=${CXX:-g++}
 # shellcheck source=sanitized_objects.sh
 source "$repo/test/sanitized_objects.sh"
-# -fopenmp: the pipeline's threads (core/parallel.h) really run side by side under the sanitizers.
-CXXFLAGS="$SANITIZED_BASE_FLAGS -fopenmp -fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined \
+CXXFLAGS="$SANITIZED_BASE_FLAGS -fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined \
   -Wno-deprecated-declarations -Wno-array-bounds $SANITIZED_INCLUDES -DOHM_FUZZ_DIR=\"$repo/test/fuzz\""
 core_sources=$(ls "$repo"/src/core/*.cpp)
 # test/ros/test_processing_stats.cpp also tests the diagnostics counters.

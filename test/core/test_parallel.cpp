@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/parallel.h"
@@ -56,6 +57,26 @@ TEST(RunTasks, ATaskThatThrowsIsRethrownAfterTheOthersRan)
     // One after the other, the first failure ends the loop; side by side, the others still run.
     EXPECT_GE(ran.load(), 4);
   }
+}
+
+TEST(RunTasks, PipelinesInSeveralThreadsAndTasksThatStartTasksAllFinish)
+{
+  // Two callers at once: one gets the pool, the other runs its tasks itself; a task that starts
+  // tasks of its own finds the pool busy and runs them itself. Every task runs once either way.
+  std::vector<int> outer(64, 0), inner(64 * 8, 0);
+  auto work = [&](std::size_t offset) {
+    core::runTasks(32, 2, [&](std::size_t t, std::size_t) {
+      ++outer[offset + t];
+      core::runTasks(8, 2, [&](std::size_t u, std::size_t) { ++inner[(offset + t) * 8 + u]; });
+    });
+  };
+  std::thread other([&]() { work(32); });
+  work(0);
+  other.join();
+  for (const int runs : outer)
+    EXPECT_EQ(runs, 1);
+  for (const int runs : inner)
+    EXPECT_EQ(runs, 1);
 }
 
 // A room with a mirror on its back wall, another on its side wall, and a pane in its front wall
