@@ -602,6 +602,9 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
 void countSurfaces(const Sweep& sweep, const SweepLabels& labels, const ObjectAssignment& assignment,
                    std::vector<ReflectiveObject>& objects)
 {
+  // Without an object every beam is unassigned: nothing to count.
+  if (objects.empty())
+    return;
   std::vector<double> intensity_sums(objects.size(), 0.0);
   std::vector<std::size_t> intensity_counts(objects.size(), 0);
   std::vector<Label> surface_labels;
@@ -854,7 +857,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   for (std::size_t task = 0; task < results.size(); ++task)
   {
     const RangeResult& result = results[task];
-    for (std::size_t j = 0; j < objects.size() && j < result.tallies.size(); ++j)
+    for (std::size_t j = 0; j < objects.size(); ++j)
       result.tallies[j].addTo(objects[j]);
     std::vector<ObjectAssignment::MergedEcho>& merged = assignment.merged_echoes[task / ranges_per_echo];
     merged.insert(merged.end(), result.merged_echoes.begin(), result.merged_echoes.end());

@@ -136,8 +136,6 @@ std::size_t OutlierFilter::applySphere(const Sweep& sweep, Label subject, SweepL
   const std::uint32_t* owners = index_.sortedId();
   std::vector<Label>& labels1 = labels.echoes[0];
   std::vector<Label>& labels2 = labels.echoes[1];
-  // Decisions depend only on the gathered coordinates, never on labels, so writing labels
-  // as we go cannot cascade.
 
   const std::size_t cell_count = index_.cellCount();
   const std::uint64_t* keys = index_.cellKeys();
@@ -166,8 +164,9 @@ std::size_t OutlierFilter::applySphere(const Sweep& sweep, Label subject, SweepL
   constexpr std::int64_t kX = cell_key::kStepX;
   constexpr std::array<std::int64_t, 8> column_offsets = { -kX, kX, -kY, kY, -kX - kY, -kX + kY, kX - kY, kX + kY };
 
-  // The cells are judged in ranges side by side (each point's decision reads only the gathered
-  // coordinates); a range's column cursors start where a search from its first cell puts them.
+  // Decisions depend only on the gathered coordinates, never on labels, so writing labels as we go
+  // cannot cascade, and the cells are judged in ranges side by side; a range's column cursors
+  // start where a search from its first cell puts them.
   const std::size_t parts = partsFor(cell_count, config_.threads, kMinCellsPerPart);
   std::vector<std::size_t> removed_in(parts, 0);
   runTasks(parts, config_.threads, [&](std::size_t part, std::size_t) {

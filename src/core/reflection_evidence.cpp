@@ -101,7 +101,7 @@ constexpr std::size_t kSeparationRank = 3;
 constexpr std::size_t kMinSeparationSamples = 100;
 
 // Side by side (build's threads), no range of returns smaller than this.
-constexpr std::size_t kMinSlotsPerPart = 16384;
+constexpr std::size_t kMinReturnsPerPart = 16384;
 
 float median(std::vector<float>& values)
 {
@@ -313,7 +313,7 @@ void ReflectionEvidence::build(const Sweep& sweep, const SweepLabels& labels, co
   const std::uint32_t* sorted_ids = index_.sortedId();
   squared_ranges_.resize(count);
   intensities_.resize(count);
-  const std::size_t sorted_parts = partsFor(count, threads, kMinSlotsPerPart);
+  const std::size_t sorted_parts = partsFor(count, threads, kMinReturnsPerPart);
   runTasks(sorted_parts, threads, [&](std::size_t part, std::size_t) {
     for (std::size_t j = partBegin(count, sorted_parts, part); j < partBegin(count, sorted_parts, part + 1); ++j)
     {

@@ -48,9 +48,9 @@ bool runOnPool(std::size_t workers, const std::function<void(std::size_t)>& job)
 template <typename Task>
 void runTasks(std::size_t tasks, int threads, Task task)
 {
-  const std::size_t workers = workersFor(tasks, threads);
   if (tasks == 0)
     return;
+  const std::size_t workers = workersFor(tasks, threads);
   if (workers == 1)
   {
     for (std::size_t t = 0; t < tasks; ++t)
