@@ -36,7 +36,7 @@ bool faintAsMergedReflection(const ReflectiveObject& object, const Eigen::Vector
                              const Eigen::Vector3f& origin)
 {
   // NaN (no intensity, or nothing seen through the object) compares false.
-  return intensity * (p - origin).squaredNorm() < kMergedEchoBrightnessShare * object.evidence.transmitted_brightness;
+  return intensity * (p - origin).squaredNorm() < kMergedEchoBrightnessShare * object.evidence.seenThroughBrightness();
 }
 
 namespace

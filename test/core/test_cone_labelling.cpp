@@ -386,6 +386,38 @@ TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsAPointAsBrightAsWhatIsSeen
     });
 }
 
+TEST(ConeLabelling, WhatIsSeenThroughIsTheBrighterOfThePointsSeenThroughAndWhatPhantomsLandOn)
+{
+  core::TypeEvidence evidence;
+  EXPECT_TRUE(std::isnan(evidence.seenThroughBrightness()));
+  evidence.landing_brightness = 800.0f;
+  EXPECT_EQ(evidence.seenThroughBrightness(), 800.0f);
+  evidence.transmitted_brightness = 14.0f;
+  EXPECT_EQ(evidence.seenThroughBrightness(), 800.0f);
+  evidence.transmitted_brightness = 3900.0f;
+  EXPECT_EQ(evidence.seenThroughBrightness(), 3900.0f);
+  evidence.landing_brightness = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(evidence.seenThroughBrightness(), 3900.0f);
+}
+
+TEST(ConeLabelling, BehindGlassWhosePointsSeenThroughAreFaintWhatItsPhantomsLandOnTells)
+{
+  // A pane close by: its sampled "seen through" points were reflections too (fainter than its
+  // phantoms), but what the phantoms land on, seen directly, is bright. Against that, the bright
+  // points behind it are real and the faint ones reflections; without it nothing could be told
+  // and all would stay what the geometry said (reflections).
+  core::ReflectiveObject glass = wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass);
+  glass.evidence.typed_by_dim_phantoms = true;
+  glass.evidence.geometric_type = ObjectType::mirror;
+  for (const float landing : { 1000.0f, std::numeric_limits<float>::quiet_NaN() })
+  {
+    glass.evidence.landing_brightness = landing;
+    expectLabelledByBrightness(glass, 8.0f, [&](bool is_faint) {
+      return !is_faint && std::isfinite(landing) ? Label::behindTransparent : Label::behindReflective;
+    });
+  }
+}
+
 TEST(ConeLabelling, PointsWithoutEvidenceOfTheirOwnTakeTheObjectsType)
 {
   // Nothing seen in front of the surface: no point behind can be told by itself.

@@ -17,7 +17,7 @@ namespace ohm_mirror_detector3d
 namespace core
 {
 // Whether point p behind `object`, with `intensity`, is faint enough against what is seen through
-// the object (TypeEvidence::transmitted_brightness) to be such an echo: false without intensity or
+// the object (TypeEvidence::seenThroughBrightness) to be such an echo: false without intensity or
 // without anything seen through the object.
 bool faintAsMergedReflection(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
                              const Eigen::Vector3f& origin);
