@@ -386,18 +386,19 @@ TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsAPointAsBrightAsWhatIsSeen
     });
 }
 
-TEST(ConeLabelling, WhatIsSeenThroughIsTheBrighterOfThePointsSeenThroughAndWhatPhantomsLandOn)
+TEST(ConeLabelling, WhatIsSeenThroughIsThePointsSeenThroughUnlessTheyAreFainterThanThePhantoms)
 {
   core::TypeEvidence evidence;
   EXPECT_TRUE(std::isnan(evidence.seenThroughBrightness()));
   evidence.landing_brightness = 800.0f;
-  EXPECT_EQ(evidence.seenThroughBrightness(), 800.0f);
+  EXPECT_EQ(evidence.seenThroughBrightness(), 800.0f);  // nothing sampled seen through
+  evidence.phantom_brightness = 23.0f;
+  evidence.transmitted_brightness = 300.0f;
+  EXPECT_EQ(evidence.seenThroughBrightness(), 300.0f);  // brighter than the phantoms: the reference
   evidence.transmitted_brightness = 14.0f;
-  EXPECT_EQ(evidence.seenThroughBrightness(), 800.0f);
-  evidence.transmitted_brightness = 3900.0f;
-  EXPECT_EQ(evidence.seenThroughBrightness(), 3900.0f);
+  EXPECT_EQ(evidence.seenThroughBrightness(), 800.0f);  // fainter: reflections themselves
   evidence.landing_brightness = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(evidence.seenThroughBrightness(), 3900.0f);
+  EXPECT_EQ(evidence.seenThroughBrightness(), 14.0f);   // nothing better known
 }
 
 TEST(ConeLabelling, BehindGlassWhosePointsSeenThroughAreFaintWhatItsPhantomsLandOnTells)

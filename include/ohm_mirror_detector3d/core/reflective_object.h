@@ -78,20 +78,23 @@ struct TypeEvidence
   float landing_brightness = std::numeric_limits<float>::quiet_NaN();
 
   // How bright what is seen through the object is, for the rules that tell reflections in glass by
-  // their faintness (cone_labelling.cpp, merged_echoes.cpp): the sampled points seen through, or
-  // what the phantoms land on, seen directly, whichever is brighter (NaN where neither is known).
-  // The sampled "seen through" points may be reflections themselves: in a pane close by (0.8 m,
-  // random scene 9702 of the 128-ring lidar) the reflections of the room behind the sensor that
-  // landed beyond what it saw counted as seen through, and came out fainter than the phantoms
-  // (median 14 against 23), while the outdoors really seen through was at 3900 and the room seen
-  // directly at 820.
+  // their faintness (cone_labelling.cpp, merged_echoes.cpp): the sampled points seen through, unless
+  // they came out fainter than the sampled phantoms, which no light seen through a pane does; then
+  // they were reflections themselves, and what the phantoms land on, seen directly, stands for them
+  // (NaN where neither is known). In a pane close by (0.8 m, random scene 9702 of the 128-ring
+  // lidar) the reflections of the room behind the sensor that landed beyond what it saw counted as
+  // seen through (median 14 against the phantoms' 23), while the outdoors really seen through was
+  // at 3900 and the room seen directly at 820. Where the sampled points seen through are not
+  // suspect they stay the reference: the brightest of the two there displaced real points dimmer
+  // than the room in front (a floor seen through at grazing incidence) on the 32-ring lidar.
   float seenThroughBrightness() const
   {
-    if (!std::isfinite(transmitted_brightness))
-      return landing_brightness;
-    return std::isfinite(landing_brightness) ? std::max(transmitted_brightness, landing_brightness) :
-                                               transmitted_brightness;
+    const bool suspect = std::isfinite(transmitted_brightness) && transmitted_brightness < phantom_brightness;
+    if (std::isfinite(transmitted_brightness) && !(suspect && std::isfinite(landing_brightness)))
+      return transmitted_brightness;
+    return landing_brightness;
   }
+
   // Whether the plane was refined from the phantoms, and by how much it turned [rad].
   bool plane_refined = false;
   float plane_correction = 0.0f;
