@@ -220,7 +220,8 @@ class FilterResult:
       phantom_share_points, phantom_intensity_share, dim_phantom_fraction, typed_by_dim_phantoms
       (the sampled phantoms' brightness against what they land on; glass when enough are too dim
       for a mirror), phantom_brightness, transmitted_brightness and landing_brightness (median intensity x range^2 of
-      the sampled phantoms, the points seen through, what the phantoms land on), plane_refined, plane_correction, mean_surface_intensity, and with intensity_evidence the intensity
+      the sampled phantoms, the points seen through, what the phantoms land on), seen_through_brightness
+      (the one of the last two the brightness rules compare with behind glass), plane_refined, plane_correction, mean_surface_intensity, and with intensity_evidence the intensity
       features intensity_echoes, intensity_off_peak, intensity_faint_share, intensity_haze,
       intensity_echo_ratio, intensity_log_odds (mirror against glass, this sweep) and intensity_typed).
     stats: point counts of the stages and the core's wall time; "warnings": a sentence for each stage

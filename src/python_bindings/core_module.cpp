@@ -298,6 +298,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["phantom_brightness"] = static_cast<double>(e.phantom_brightness);
   d["transmitted_brightness"] = static_cast<double>(e.transmitted_brightness);
   d["landing_brightness"] = static_cast<double>(e.landing_brightness);
+  d["seen_through_brightness"] = static_cast<double>(e.seenThroughBrightness());
   d["landing_fitness"] = static_cast<double>(e.landing_fitness);
   d["plane_refined"] = e.plane_refined;
   d["plane_correction"] = static_cast<double>(e.plane_correction);
