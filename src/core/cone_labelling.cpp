@@ -161,21 +161,14 @@ enum class Brightness
   seenThrough,
 };
 
-bool faintAgainstSeenThrough(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
-                             const Eigen::Vector3f& origin)
-{
-  // NaN (nothing known seen through) compares false.
-  return intensity > 0.0f &&
-         intensity * (p - origin).squaredNorm() < kFaintAgainstSeenThrough * object.evidence.seenThroughBrightness();
-}
-
 Brightness brightnessBehind(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
                             const Eigen::Vector3f& origin)
 {
-  if (faintAgainstSeenThrough(object, p, intensity, origin))
-    return Brightness::reflection;
   const float brightness = intensity * (p - origin).squaredNorm();
   const float seen_through = object.evidence.seenThroughBrightness();
+  // NaN (nothing known seen through) compares false.
+  if (intensity > 0.0f && brightness < kFaintAgainstSeenThrough * seen_through)
+    return Brightness::reflection;
   const float phantom = object.evidence.phantom_brightness;
   if (!(intensity > 0.0f) || !(phantom > 0.0f) || !(seen_through >= kFaintPhantomContrast * phantom))
     return Brightness::untold;
