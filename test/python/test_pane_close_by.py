@@ -14,23 +14,14 @@ what the phantoms land on, seen directly, stands for what is seen through there:
 import numpy as np
 import pytest
 
-core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
-
-from ohm_mirror_detector3d import metrics  # noqa: E402
-from ohm_mirror_detector3d import scene as scenes  # noqa: E402
-from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
-from ohm_mirror_detector3d.simulate import SweepSimulator, ground_truth_objects  # noqa: E402
-
 FAMILY = 'ouster_os0_128'
-SCENE = 9702
+SCENE = 'random_9702'
 
 
 @pytest.fixture(scope='module')
-def filtered():
-    case = ev.cases([FAMILY], 1, SCENE, named=False)[0]
-    sweep = SweepSimulator(scenes.get(case.scene), ev.scanner_of(case)).sweep(seed=case.seed)
-    ground_truth, labelled, cleaned, objects = ev.filter_case(core.Pipeline(), sweep, ev.INPUT_MODES[FAMILY])
-    figures = metrics.evaluate_sweep(ground_truth, labelled, cleaned, objects, ground_truth_objects(sweep))
+def filtered(evaluation_sweep, filtered_and_scored):
+    sweep = evaluation_sweep(FAMILY, SCENE)
+    figures, objects = filtered_and_scored(FAMILY, sweep)
     return figures, objects, sweep
 
 
