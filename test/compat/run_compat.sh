@@ -190,6 +190,6 @@ log "running ctest in the chroot"
 in_chroot /bin/bash -eo pipefail -c "
   export ROS_HOME=$ws/.ros ROS_LOG_DIR=$ws/.ros/log ROS_HOSTNAME=127.0.0.1
   source $ws/devel/setup.bash
-  cd $ws/build && ctest --output-on-failure
+  cd $ws/build && ctest -j2 --output-on-failure
 "
 log "test-compat passed (Debian 11 bullseye build + ctest, vermin 3.8)"
