@@ -60,15 +60,20 @@ def _tracked_text_files():
 
 
 def test_no_registry_host_is_named():
+    # The lines of a file that holds a host name anywhere (a plain substring search of its lower
+    # case): the pattern over every line of every file took 9 s.
+    def may_name_one(text):
+        lower = text.lower()
+        return any(host in lower for host in _REGISTRY_HOSTS)
     found = ['%s:%d: %s' % (name, number, line.strip())
-             for name, text in _tracked_text_files()
+             for name, text in _tracked_text_files() if may_name_one(text)
              for number, line in enumerate(text.splitlines(), 1) if _REGISTRY.search(line)]
     assert not found, 'registry host names in the tree:\n' + '\n'.join(found)
 
 
 def test_no_address_other_than_local_ones_and_source_repositories():
     found = ['%s:%d: %s' % (name, number, match.group(0))
-             for name, text in _tracked_text_files()
+             for name, text in _tracked_text_files() if _URL.search(text)
              for number, line in enumerate(text.splitlines(), 1)
              for match in _URL.finditer(line) if match.group(1).lower() not in _ALLOWED_URL_HOSTS]
     assert not found, 'hard-coded addresses in the tree:\n' + '\n'.join(found)
