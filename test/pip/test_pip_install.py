@@ -7,8 +7,8 @@ and the file CLI (console script ohm-mirror-filter and python -m ohm_mirror_dete
 writes the same labelled PLY as the catkin one.
 
 Run by ctest after `source devel/setup.bash` (the catkin module is the reference). The build takes
-about a minute and a half on 2 cores (precompiled headers, as the catkin build); it runs under `nice` and leaves nothing in the repository (pip builds in
-a temporary folder)."""
+about a minute and a half on 2 cores (precompiled headers, as the catkin build); it runs under
+`nice` and leaves nothing in the repository (pip builds in a temporary folder)."""
 import json
 import os
 import subprocess
