@@ -22,8 +22,12 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   const float origin_side = host.signedDistance(origin);
   if (echoes.empty() || !(origin_side > 0.0f))
     return result;
-  const bool may_be_phantoms = static_cast<float>(echoes.size()) <=
-                               config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size());
+  // A pane's surface echoes cover only its near-perpendicular patch; its phantom planes may hold
+  // far more (random_29 on the rotating Hokuyo: 6321 against the patch's 623), so the echo ratio
+  // bounds only a mirror's and an unknown object's.
+  const bool host_is_pane = host.type == ObjectType::glass;
+  const bool may_be_phantoms = host_is_pane || static_cast<float>(echoes.size()) <=
+                                                   config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size());
   // Nothing is seen through a mirror; and an object typed mirror showed reflections of its own
   // (a metal panel behind a glass wall, whose far echoes happened to land across the glass as well:
   // the 128-ring lidar's random_27) rather than being a wall seen through another.
@@ -53,10 +57,26 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // Only a pane's: moved along their beams, a real pane's surface echoes behind another object
   // also land (experiment 2's glass door, handed to a 0.28 x 0.19 m unknown speck in front of it on
   // the 64-ring lidar).
-  const bool may_be_merged = host.type == ObjectType::glass;
+  const bool may_be_merged = host_is_pane;
   auto isMergedReflection = [&](const Eigen::Vector3f& p, float intensity) {
     return may_be_merged && faintAsMergedReflection(host, p, intensity, origin) &&
            mergedReflection(evidence, host, p).allFinite();
+  };
+  // The image of a side the sensor does not see (the back of a box or a person between the sensor
+  // and a pane, reflected by the pane): reflected across the pane such a near echo lands just
+  // behind the side of that thing the sensor does see (occluded, by at most max_hidden_depth), and
+  // its beam's far echo, further behind the pane, is what the pane let through: neither the
+  // pane's phantom nor the object's own (which would make the object a real mirror seen through
+  // the pane). Both echoes of the beam lie behind the pane, one of them its reflection: the near
+  // one. Only behind a pane: a mirror lets nothing through.
+  auto isHiddenSideImage = [&](const PointRef& ref, const Eigen::Vector3f& p, const ReflectionTest& near) {
+    if (!host_is_pane || ref.echo != 0 || near.outcome != ReflectionOutcome::occluded ||
+        !(near.range_difference < 0.0f && near.range_difference > -config_.max_hidden_depth))
+      return false;
+    const Eigen::Vector3f& far = sweep.echoes[1].points[ref.beam];
+    return far.allFinite() && host.signedDistance(far) < host.signedDistance(p) - config_.min_depth &&
+           evidence.test(host.plane, far, host.landing_tolerance).outcome != ReflectionOutcome::phantom &&
+           evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom;
   };
   // The sample is visited in kPasses interleaved passes, each spread over the whole object: after
   // the first, a pair whose share there is under half of min_share is given up (most pairs tested
@@ -90,8 +110,10 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
           far_behind && evidence.test(host.plane, far, host.landing_tolerance).outcome == ReflectionOutcome::phantom;
       if (!may_be_phantoms && !far_is_hosts_phantom)
         continue;
-      if (evidence.test(host.plane, p, host.landing_tolerance).outcome == ReflectionOutcome::phantom ||
-          (may_be_phantoms && isMergedReflection(p, sweep.echoes[ref.echo].intensities[ref.beam])))
+      const ReflectionTest near = evidence.test(host.plane, p, host.landing_tolerance);
+      if (near.outcome == ReflectionOutcome::phantom ||
+          (may_be_phantoms && (isMergedReflection(p, sweep.echoes[ref.echo].intensities[ref.beam]) ||
+                               isHiddenSideImage(ref, p, near))))
         phantoms += may_be_phantoms ? 1 : 0;
       else if (far_is_hosts_phantom &&
                evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom)

@@ -294,5 +294,88 @@ TEST(PhantomPlanes, AWallSeenThroughAPaneIsHandedToThePaneAndItsFarEchoesAreTheP
   EXPECT_GE(reflections, 9 * wall.surface_inliers.size() / 10);
 }
 
+// The hidden side of something between the sensor and a pane: a box stands 1.4 m from the sensor,
+// its front (seen) at x = kBoxFront, its back (not seen) at x = kBoxBack. The pane at x = kMirror
+// reflects the back: its image lies at x = kHiddenImage, as far behind the pane as the back is in
+// front. Beams that pass the box and meet the pane there return that image as their near echo
+// and the front wall seen through the pane as their far echo.
+constexpr float kBoxFront = 1.4f;
+constexpr float kBoxBack = 1.6f;
+constexpr float kHiddenImage = kMirror + (kMirror - kBoxBack);
+
+core::Sweep hiddenSideSweep()
+{
+  test::TracedScene scene;
+  scene.panels = test::room(kBack, 4.0f, 2.5f, 1.0f, 1.5f);
+  scene.panels.push_back({ 0, kMirror, { -1.5f, -0.8f }, { 1.5f, 1.2f }, Surface::glass });
+  scene.panels.push_back({ 0, kBoxFront, { 0.85f, -0.5f }, { 2.0f, 0.8f }, Surface::wall });
+  core::Sweep sweep = sweepOf(scene);
+  for (std::size_t b = 0; b < sweep.beamCount(); ++b)
+  {
+    const Eigen::Vector3f seen_through = sweep.echoes[0].points[b];
+    if (!seen_through.allFinite() || std::fabs(seen_through.x() - 4.0f) > 0.02f)
+      continue;
+    const Eigen::Vector3f image = seen_through * (kHiddenImage / seen_through.x());
+    // Where the box's back, reflected, is seen: the image's reflection lies behind the box's front.
+    if (image.y() < 1.0f || image.y() > 1.4f || image.z() < 0.0f || image.z() > 0.5f)
+      continue;
+    sweep.echoes[0].points[b] = image;
+    sweep.echoes[1].points[b] = seen_through;
+  }
+  sweep.computeRanges(Eigen::Vector3f::Zero());
+  return sweep;
+}
+
+TEST(PhantomPlanes, AnImageOfAHiddenSideInAPaneIsThePanesPhantomPlane)
+{
+  const core::Sweep sweep = hiddenSideSweep();
+  // The pane's patch is small: its phantom plane holds more than max_echo_ratio times its echoes.
+  core::ReflectiveObject pane = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::glass);
+  pane.surface_inliers.resize(50, core::PointRef{ 0, 0 });
+  const core::ReflectiveObject image = objectOfEchoes(sweep, kHiddenImage, 1.2f, 0.25f, 0.4f, ObjectType::mirror);
+  ASSERT_GT(image.surface_inliers.size(), 4 * pane.surface_inliers.size());
+
+  const test::Detected detected(sweep);
+  const Eigen::Vector3f origin = Eigen::Vector3f::Zero();
+  // Reflected across the pane its echoes land behind the box's front: occluded, not on a surface.
+  std::size_t occluded = 0;
+  for (const core::PointRef& ref : image.surface_inliers)
+    occluded += detected.evidence.test(pane.plane, sweep.echoes[0].points[ref.beam], pane.landing_tolerance).outcome ==
+                        core::ReflectionOutcome::occluded ?
+                    1 :
+                    0;
+  EXPECT_GE(occluded, 9 * image.surface_inliers.size() / 10);
+
+  const core::PhantomPlanes stage(phantomPlaneConfig());
+  EXPECT_GE(stage.shares(sweep, origin, detected.evidence, image, pane).phantom, 0.9f);
+  const std::vector<core::ReflectiveObject> objects = afterStage(sweep, { image, pane });
+  ASSERT_EQ(objects.size(), 1u);
+  EXPECT_EQ(objects[0].type, ObjectType::glass);
+  ASSERT_EQ(objects[0].phantom_planes.size(), 1u);
+  EXPECT_NEAR(objects[0].phantom_planes[0].centre.x(), kHiddenImage, 1e-4f);
+
+  // A mirror lets nothing through: behind it no far echo is seen through, and the image is no
+  // phantom plane of a mirror's small patch.
+  core::ReflectiveObject mirror = pane;
+  mirror.type = ObjectType::mirror;
+  EXPECT_LE(stage.shares(sweep, origin, detected.evidence, image, mirror).phantom, 0.0f);
+  // Landing further behind a seen surface than things are deep is no evidence (a real mirror
+  // behind the pane lands there): the box is 0.2 m deep.
+  core::PhantomPlaneConfig shallow = phantomPlaneConfig();
+  shallow.max_hidden_depth = 0.1f;
+  EXPECT_LT(core::PhantomPlanes(shallow).shares(sweep, origin, detected.evidence, image, pane).phantom, 0.5f);
+  // Whose far echoes are its own reflections is a real mirror seen through the pane, not an image.
+  core::Sweep with_own_phantoms = sweep;
+  for (const core::PointRef& ref : image.surface_inliers)
+  {
+    // The box's front seen in the object's mirror: its image across x = kHiddenImage.
+    const Eigen::Vector3f p = sweep.echoes[0].points[ref.beam];
+    with_own_phantoms.echoes[1].points[ref.beam] = p * ((2.0f * kHiddenImage - kBoxFront) / p.x());
+  }
+  with_own_phantoms.computeRanges(origin);
+  const test::Detected mirrored(with_own_phantoms);
+  EXPECT_LT(stage.shares(with_own_phantoms, origin, mirrored.evidence, image, pane).phantom, 0.5f);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

@@ -20,6 +20,12 @@
 // too and kept in that object's seen_through_surfaces. Its points are labelled against the
 // pane; those beyond it that prove nothing are no real points either (nothing is seen behind a
 // wall): behindErrorS.
+//
+// A pane also shows what the sensor cannot see directly: the back of a box or a person standing
+// between the sensor and the pane. Such a phantom plane's echoes, reflected across the pane, land
+// just behind the side the sensor does see (occluded, not on it), and their beams' far echoes lie
+// further behind the pane, transmitted. Those near echoes count as the pane's phantoms too
+// (PhantomPlaneConfig::max_hidden_depth).
 #pragma once
 
 #include <cstddef>
@@ -49,6 +55,13 @@ struct PhantomPlaneConfig
   // small, the pane and its phantom planes are not (bounded to growth_max_extent beyond the patch,
   // most of the gain on random scenes 4000-4019 was lost).
   float max_echo_ratio = 4.0f;
+  // A near echo behind a pane whose reflection lands at most this far behind a surface the sensor
+  // saw is the image of that surface's hidden side (the back of a box, a person, a cupboard): the
+  // depth of such things [m]. Reflected across the pane, the surface echoes of a real mirror or
+  // metal panel behind it land far behind what the sensor saw there (0.7-2.2 m on the rotating
+  // Hokuyo's random scenes 0-49); with no bound three of them (random_3, 7 and 48) were taken for
+  // a pane's phantoms and lost.
+  float max_hidden_depth = 0.5f;
 };
 
 class PhantomPlanes : public ObjectStage
