@@ -720,6 +720,39 @@ void labelBorrowedCone(const Sweep& sweep, const VisionCone& cone, const ConeBou
   tally.addTo(objects[j]);
 }
 
+// The surface echoes of a pane's phantom planes are its reflections by the plane's verdict
+// (phantom_planes.h). One kept as seen through for want of evidence of its own is labelled a
+// reflection like the rest of its plane: its reflection lands where the sensor saw something
+// nearer (the image of a side the sensor does not see, the back of a box in front of the pane),
+// saw nothing, saw a surface the reflection maps onto itself, or saw a surface but the point was
+// too bright for a reflection beyond the pane's patch. Only one that lands where the sensor
+// looked through is kept. Measured on random scenes 0-49 (make evaluate's): double-echo phantoms
+// at a wrong place 13.6 -> 11.9 % (rotating Hokuyo), 21.1 -> 20.9, 15.7 -> 15.5, 35.0 -> 34.5 %
+// (64-, 128-, 32-ring lidars), no scene worse; real points behind glass labelled reflections up by
+// 52 and 350 (rotating Hokuyo, 32-ring lidar: most in random_3, a glass wall 0.54 m away).
+void labelPhantomPlaneEchoes(const Sweep& sweep, const std::vector<ReflectiveObject>& objects,
+                             LazyEvidence& evidence, SweepLabels& labels, const ObjectAssignment& assignment)
+{
+  for (std::size_t j = 0; j < objects.size(); ++j)
+  {
+    const ReflectiveObject& object = objects[j];
+    if (object.type != ObjectType::glass)
+      continue;
+    for (const ReflectiveObject& plane : object.phantom_planes)
+      for (const PointRef& ref : plane.surface_inliers)
+      {
+        if (ref.echo > 1 || assignment.echoes[ref.echo][ref.beam] != static_cast<std::int32_t>(j))
+          continue;
+        Label& label = labels.echoes[ref.echo][ref.beam];
+        if (label == Label::behindTransparent &&
+            evidence.get()
+                    .test(object.plane, sweep.echoes[ref.echo].points[ref.beam], object.landing_tolerance)
+                    .outcome != ReflectionOutcome::transmitted)
+          label = Label::behindReflective;
+      }
+  }
+}
+
 void labelPhantomPlaneCones(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, float plane_threshold,
                             float margin, const EchoBlockBoxes& boxes, LazyEvidence& evidence,
                             std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment)
@@ -862,6 +895,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
   }
   countSurfaces(sweep, labels, assignment, objects);
   labelPhantomPlaneCones(sweep, sensor_origin, plane_threshold, margin, boxes, evidence, objects, labels, assignment);
+  labelPhantomPlaneEchoes(sweep, objects, evidence, labels, assignment);
   // The borrowed cones added their merged echoes after the objects' own: beam order again.
   for (std::vector<ObjectAssignment::MergedEcho>& merged : assignment.merged_echoes)
     std::sort(merged.begin(), merged.end(),

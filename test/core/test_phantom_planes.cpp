@@ -377,5 +377,38 @@ TEST(PhantomPlanes, AnImageOfAHiddenSideInAPaneIsThePanesPhantomPlane)
   EXPECT_LT(stage.shares(with_own_phantoms, origin, mirrored.evidence, image, pane).phantom, 0.5f);
 }
 
+TEST(PhantomPlanes, TheConeLabellingLabelsAPanesImageOfAHiddenSideAsItsReflections)
+{
+  // Reflected across the pane, the image's echoes land behind the box's front: no evidence of
+  // their own, which behind glass keeps a point as seen through. On the pane's phantom plane they
+  // are its reflections; the far echoes behind them were seen through the pane.
+  const core::Sweep sweep = hiddenSideSweep();
+  core::ReflectiveObject pane = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::glass);
+  const core::ReflectiveObject image = objectOfEchoes(sweep, kHiddenImage, 1.2f, 0.25f, 0.4f, ObjectType::mirror);
+  ASSERT_GE(image.surface_inliers.size(), 50u);
+  pane.phantom_planes.push_back(image);
+  std::vector<core::ReflectiveObject> objects{ pane };
+  const test::Detected detected(sweep);
+  const Labelled out = labelWith(sweep, detected, objects);
+  std::size_t reflections = 0, seen_through = 0;
+  for (const core::PointRef& ref : image.surface_inliers)
+  {
+    EXPECT_EQ(out.assignment.echoes[0][ref.beam], 0);
+    reflections += out.labels.echoes[0][ref.beam] == Label::behindReflective ? 1 : 0;
+    seen_through += out.labels.echoes[1][ref.beam] == Label::behindTransparent ? 1 : 0;
+  }
+  EXPECT_GE(reflections, 9 * image.surface_inliers.size() / 10);
+  EXPECT_GE(seen_through, 9 * image.surface_inliers.size() / 10);
+
+  // Without the phantom plane the same echoes are kept (nothing proves them reflections).
+  std::vector<core::ReflectiveObject> alone{ test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::glass) };
+  alone[0].width = alone[0].height = 4.0f;  // a pane grown over the image's beams
+  const Labelled plain = labelWith(sweep, detected, alone);
+  std::size_t kept = 0;
+  for (const core::PointRef& ref : image.surface_inliers)
+    kept += plain.labels.echoes[0][ref.beam] == Label::behindTransparent ? 1 : 0;
+  EXPECT_GE(kept, 9 * image.surface_inliers.size() / 10);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

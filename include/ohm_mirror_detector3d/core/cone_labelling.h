@@ -57,8 +57,11 @@ public:
   // takes the object's type (behindReflective behind a mirror, behindTransparent behind glass,
   // behindErrorS behind an unknown surface). Where cones overlap the surface nearest to the
   // sensor wins. Points outside every cone (or in front of the surface) become valid, except
-  // `error` points, which stay error. Fills each object's surface_points, behind_points, the
-  // counts of what the points behind said, and mean_surface_intensity.
+  // `error` points, which stay error. The points in the cones of an object's phantom planes and
+  // of the surfaces seen through it (phantom_planes.h) are labelled against it; a pane's phantom
+  // planes' own echoes are its reflections unless they land where the sensor looked through.
+  // Fills each object's surface_points, behind_points, the counts of what the points behind
+  // said, and mean_surface_intensity.
   void apply(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const ReflectionEvidence& evidence,
              std::vector<ReflectiveObject>& objects, SweepLabels& labels, ObjectAssignment& assignment) const;
   // The same with the evidence asked for only when the first point behind an object needs it
