@@ -69,11 +69,12 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // pane's phantom nor the object's own (which would make the object a real mirror seen through
   // the pane). Both echoes of the beam lie behind the pane, one of them its reflection: the near
   // one. Only behind a pane: a mirror lets nothing through.
-  auto isHiddenSideImage = [&](const PointRef& ref, const Eigen::Vector3f& p, const ReflectionTest& near) {
+  // `far` is the beam's other echo (its far one when ref is the near one).
+  auto isHiddenSideImage = [&](const PointRef& ref, const Eigen::Vector3f& p, const Eigen::Vector3f& far,
+                               const ReflectionTest& near) {
     if (!host_is_pane || ref.echo != 0 || near.outcome != ReflectionOutcome::occluded ||
         !(near.range_difference < 0.0f && near.range_difference > -config_.max_hidden_depth))
       return false;
-    const Eigen::Vector3f& far = sweep.echoes[1].points[ref.beam];
     return far.allFinite() && host.signedDistance(far) < host.signedDistance(p) - config_.min_depth &&
            evidence.test(host.plane, far, host.landing_tolerance).outcome != ReflectionOutcome::phantom &&
            evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom;
@@ -113,7 +114,7 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
       const ReflectionTest near = evidence.test(host.plane, p, host.landing_tolerance);
       if (near.outcome == ReflectionOutcome::phantom ||
           (may_be_phantoms && (isMergedReflection(p, sweep.echoes[ref.echo].intensities[ref.beam]) ||
-                               isHiddenSideImage(ref, p, near))))
+                               isHiddenSideImage(ref, p, far, near))))
         phantoms += may_be_phantoms ? 1 : 0;
       else if (far_is_hosts_phantom &&
                evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom)
