@@ -93,6 +93,15 @@ Labelled labelWith(const core::Sweep& sweep, const test::Detected& detected, std
   return out;
 }
 
+// The sweep labelled with one object, `host`, that keeps `plane` among its phantom planes.
+Labelled labelWithPhantomPlane(const core::Sweep& sweep, const test::Detected& detected, core::ReflectiveObject host,
+                               const core::ReflectiveObject& plane)
+{
+  host.phantom_planes.push_back(plane);
+  std::vector<core::ReflectiveObject> objects{ host };
+  return labelWith(sweep, detected, objects);
+}
+
 TEST(PhantomPlanes, TheDefaultsSwitchTheStageOn)
 {
   const core::PhantomPlaneConfig config = phantomPlaneConfig();
@@ -205,15 +214,13 @@ TEST(PhantomPlanes, APointBeyondAPhantomPlaneIsNoPhantomOfItsObject)
   // reflection shows. Here the phantom plane is taken 1.5 m nearer than the back wall's phantoms:
   // those, beyond it, land on the back wall across the mirror all the same, but prove nothing.
   const core::Sweep sweep = sweepOf(mirrorRoom());
-  core::ReflectiveObject mirror = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror);
+  const core::ReflectiveObject mirror = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::mirror);
   const core::ReflectiveObject on_it = objectOfEchoes(sweep, kPhantomWall, 1.2f, 0.6f, 0.8f, ObjectType::glass);
   core::ReflectiveObject nearer = on_it;
   nearer.plane[3] -= 1.5f;
   nearer.centre.x() -= 1.5f;
-  mirror.phantom_planes.push_back(nearer);
-  std::vector<core::ReflectiveObject> objects{ mirror };
   const test::Detected detected(sweep);
-  const Labelled out = labelWith(sweep, detected, objects);
+  const Labelled out = labelWithPhantomPlane(sweep, detected, mirror, nearer);
   std::size_t in_cone = 0, phantoms = 0;
   for (const core::PointRef& ref : on_it.surface_inliers)
   {
@@ -383,13 +390,11 @@ TEST(PhantomPlanes, TheConeLabellingLabelsAPanesImageOfAHiddenSideAsItsReflectio
   // their own, which behind glass keeps a point as seen through. On the pane's phantom plane they
   // are its reflections; the far echoes behind them were seen through the pane.
   const core::Sweep sweep = hiddenSideSweep();
-  core::ReflectiveObject pane = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::glass);
+  const core::ReflectiveObject pane = test::patchAt(kMirror, 0.0f, 0.0f, 0.2f, ObjectType::glass);
   const core::ReflectiveObject image = objectOfEchoes(sweep, kHiddenImage, 1.2f, 0.25f, 0.4f, ObjectType::mirror);
   ASSERT_GE(image.surface_inliers.size(), 50u);
-  pane.phantom_planes.push_back(image);
-  std::vector<core::ReflectiveObject> objects{ pane };
   const test::Detected detected(sweep);
-  const Labelled out = labelWith(sweep, detected, objects);
+  const Labelled out = labelWithPhantomPlane(sweep, detected, pane, image);
   std::size_t reflections = 0, seen_through = 0;
   for (const core::PointRef& ref : image.surface_inliers)
   {
