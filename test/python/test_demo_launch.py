@@ -13,6 +13,7 @@ import re
 import shutil
 import socket
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -76,7 +77,10 @@ def process_exits(log_dir):
     None for one whose end it never reported, from roslaunch's log in `log_dir`."""
     logs = glob.glob(os.path.join(str(log_dir), '*', 'roslaunch-*.log'))
     assert logs, 'roslaunch wrote no log in %s' % log_dir
-    text = ''.join(open(log).read() for log in logs)
+    text = ''
+    for log in logs:
+        with open(log) as f:
+            text += f.read()
     exits = {name: None for name in re.findall(r'process\[([^\]]+)\]: start w/ args', text)}
     for pattern, code_of in EXIT_REPORTS:
         for match in re.finditer(pattern, text):
@@ -107,17 +111,41 @@ def test_demo_scores_the_experiment_and_ends(tmp_path):
     assert 'ERROR' not in log and 'FATAL' not in log, log[-4000:]
 
 
+# How Debian's rviz 1.14 on Mesa's software GL (llvmpipe, under Xvfb) dies on its own, not of
+# anything the demo sends it: a segmentation fault, or glibc's heap check aborting it. It does so
+# while drawing in about 2 of 15 runs here (stop 38), before the screenshot, which then shows no
+# labels (README, Troubleshooting).
+RVIZ_CRASH_CODES = (-11, -6)
+
+
+def rviz_alone_crashed(log_dir):
+    """Whether rviz ended by a crash of its own and every other process of the launch with 0, but
+    rviz_screenshot, which then had no rviz to take a picture of."""
+    exits = process_exits(log_dir)
+    rviz = [code for name, code in exits.items() if re.fullmatch(r'rviz-\d+', name)]
+    others = [code for name, code in exits.items() if not re.fullmatch(r'rviz(_screenshot)?-\d+', name)]
+    return bool(rviz) and all(code in RVIZ_CRASH_CODES for code in rviz) and all(code == 0 for code in others)
+
+
 @pytest.fixture(scope='module')
 def screenshot(tmp_path_factory):
     if not (shutil.which('xvfb-run') and shutil.which('Xvfb')):
         pytest.skip('Xvfb is not installed (apt-get install xvfb xauth)')
-    out = tmp_path_factory.mktemp('rviz_demo')
-    shot = out / 'rviz.png'
-    log_dir = out / 'log'
-    log_dir.mkdir()
-    code, log = roslaunch(['xvfb-run', '-a', '-s', '-screen 0 1024x768x24'],
-                          ['scans:=200', 'out:=%s' % out, 'rviz:=true', 'screenshot:=%s' % shot], timeout=240,
-                          log_dir=log_dir)
+    # One more run when rviz alone crashed in the first (RVIZ_CRASH_CODES), saying so: a crash of
+    # rviz in both runs, or any other failure, still fails the tests below.
+    for attempt in (1, 2):
+        out = tmp_path_factory.mktemp('rviz_demo')
+        shot = out / 'rviz.png'
+        log_dir = out / 'log'
+        log_dir.mkdir()
+        code, log = roslaunch(['xvfb-run', '-a', '-s', '-screen 0 1024x768x24'],
+                              ['scans:=200', 'out:=%s' % out, 'rviz:=true', 'screenshot:=%s' % shot], timeout=240,
+                              log_dir=log_dir)
+        if attempt == 1 and rviz_alone_crashed(log_dir):
+            warnings.warn('rviz crashed on its own in the first run of the demo (%s); running it again. '
+                          'Its output:\n%s' % (process_exits(log_dir), log[-2000:]))
+            continue
+        break
     assert shot.exists(), 'no screenshot (exit code %s); roslaunch said:\n%s' % (code, log[-4000:])
     assert (out / 'evaluation.json').exists(), 'the evaluator wrote nothing:\n' + log[-4000:]
     import matplotlib.image
