@@ -118,10 +118,9 @@ def test_demo_scores_the_experiment_and_ends(tmp_path):
 RVIZ_CRASH_CODES = (-11, -6)
 
 
-def rviz_alone_crashed(log_dir):
-    """Whether rviz ended by a crash of its own and every other process of the launch with 0, but
-    rviz_screenshot, which then had no rviz to take a picture of."""
-    exits = process_exits(log_dir)
+def rviz_alone_crashed(exits):
+    """Whether, by `exits` (process_exits), rviz ended by a crash of its own and every other process
+    of the launch with 0, but rviz_screenshot, which then had no rviz to take a picture of."""
     rviz = [code for name, code in exits.items() if re.fullmatch(r'rviz-\d+', name)]
     others = [code for name, code in exits.items() if not re.fullmatch(r'rviz(_screenshot)?-\d+', name)]
     return bool(rviz) and all(code in RVIZ_CRASH_CODES for code in rviz) and all(code == 0 for code in others)
@@ -141,9 +140,10 @@ def screenshot(tmp_path_factory):
         code, log = roslaunch(['xvfb-run', '-a', '-s', '-screen 0 1024x768x24'],
                               ['scans:=200', 'out:=%s' % out, 'rviz:=true', 'screenshot:=%s' % shot], timeout=240,
                               log_dir=log_dir)
-        if attempt == 1 and rviz_alone_crashed(log_dir):
+        exits = process_exits(log_dir) if attempt == 1 else None
+        if exits is not None and rviz_alone_crashed(exits):
             warnings.warn('rviz crashed on its own in the first run of the demo (%s); running it again. '
-                          'Its output:\n%s' % (process_exits(log_dir), log[-2000:]))
+                          'Its output:\n%s' % (exits, log[-2000:]))
             continue
         break
     assert shot.exists(), 'no screenshot (exit code %s); roslaunch said:\n%s' % (code, log[-4000:])
