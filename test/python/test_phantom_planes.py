@@ -7,9 +7,16 @@ case): with the stage, 5 objects fewer (11 instead of 16), 945 fewer double-echo
 a wrong place, 432 fewer real points displaced and 13 fewer lost than with phantom_plane_share 0
 (measured at stop 29).
 """
+import os
+
 import pytest
 
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
+
+from ohm_mirror_detector3d import scanner, simulate  # noqa: E402
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+HOKUYO_PARAMS = os.path.join(REPO, 'launch', 'rotating_hokuyo_params.yaml')
 
 
 @pytest.fixture(scope='module')
@@ -43,10 +50,7 @@ def test_make_demos_mirror_is_no_phantom_plane_of_the_false_object_under_the_sca
     # behind. Until stop 39 the stage took the mirror for that object's phantom plane (its echoes,
     # reflected across that plane, landed) and the demo reported 0 % of the mirror detected, every
     # phantom at a wrong place; now an object typed mirror is no phantom plane of one typed unknown.
-    import os
-    from ohm_mirror_detector3d import scanner, simulate
-    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    pipeline = core.Pipeline(core.Params.from_yaml(os.path.join(repo, 'launch', 'rotating_hokuyo_params.yaml')))
+    pipeline = core.Pipeline(core.Params.from_yaml(HOKUYO_PARAMS))
     sweep = simulate.simulate_sweep('experiment1', scanner.RotatingHokuyo(scans=400), seed=1)
     result, _ = core.evaluate_sweep(sweep, pipeline)
     (mirror,) = result['objects']
