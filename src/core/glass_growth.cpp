@@ -75,7 +75,13 @@ void GlassGrowth::process(const Sweep& sweep, const SweepContext& context, const
   const Eigen::Vector3f origin = context.sensorOrigin();
   for (ReflectiveObject& object : objects)
   {
-    if (object.type != ObjectType::glass)
+    // Glass by its intensities alone (intensity_evidence.h: the geometry left it unknown) keeps
+    // its patch: growing it over its plane would let a weak verdict claim every point behind. A
+    // table's edge under the rotating Hokuyo of `make demo` (mixed pixels, an unknown object 0.25 m
+    // below the scanner) typed glass grew to 1.7 x 1.7 m and took 5 % of the mirror's phantoms
+    // as seen through it; on `make evaluate` the rule changed 4 of 264 sweeps, phantoms at a wrong
+    // place -18, real points displaced +73 in all (stop 40).
+    if (object.type != ObjectType::glass || object.intensity.typed)
       continue;
     ReflectiveObject pane = upright(object);
     crossings_.build(sweep, labels, origin, evidence.angularStep(), pane, config_);

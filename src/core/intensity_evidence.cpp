@@ -1,5 +1,8 @@
 #include "ohm_mirror_detector3d/core/intensity_evidence.h"
 
+#include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/vision_cone.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -47,6 +50,36 @@ struct OnObject
            std::abs(rel.dot(object.height_axis)) <= object.height / 2;
   }
 };
+float medianAbsoluteDeviation(std::vector<float>& values)
+{
+  const float centre = median(values);
+  for (float& v : values)
+    v = std::abs(v - centre);
+  return median(values);
+}
+
+// Whether most of the object's surface echoes lie behind another object's plane, within `reach`
+// of its rectangle (IntensityEvidenceConfig::reach).
+bool seenBehindAnother(const std::vector<ReflectiveObject>& objects, std::size_t index, const Sweep& sweep,
+                       const Eigen::Vector3f& origin, float plane_threshold, float reach)
+{
+  const ReflectiveObject& object = objects[index];
+  if (object.surface_inliers.empty())
+    return false;
+  std::vector<VisionCone> cones;
+  for (std::size_t j = 0; j < objects.size(); ++j)
+    if (j != index)
+      cones.emplace_back(objects[j], origin, plane_threshold, reach);
+  std::size_t behind = 0;
+  for (const PointRef& ref : object.surface_inliers)
+  {
+    const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
+    if (std::any_of(cones.begin(), cones.end(),
+                    [&p](const VisionCone& cone) { return cone.locate(p).relation == ConeRelation::behind; }))
+      ++behind;
+  }
+  return 2 * behind > object.surface_inliers.size();
+}
 }  // namespace
 
 float FeatureModel::logLikelihoodRatio(float x) const
@@ -56,25 +89,70 @@ float FeatureModel::logLikelihoodRatio(float x) const
   return 0.5f * (b * b - a * a);
 }
 
-float intensityReference(const Sweep& sweep)
+IntensityScale intensityScale(const Sweep& sweep)
 {
-  std::vector<float> values;
-  values.reserve(2 * sweep.beamCount() / kReferenceStride + 2);
+  // Every kReferenceStride-th beam, or sparser so that at most about kMaxScaleSamples returns are
+  // sampled: a median needs no more, and on a 1080 x 400 sweep the sort and the logarithms of
+  // every seventh return took 3-4 ms.
+  const std::size_t stride = std::max(kReferenceStride, 2 * sweep.beamCount() / kMaxScaleSamples + 1);
+  std::vector<float> raw, compensated;
+  raw.reserve(2 * sweep.beamCount() / stride + 2);
+  compensated.reserve(raw.capacity());
   for (const EchoCloud& echo : sweep.echoes)
-    for (std::size_t beam = 0; beam < echo.size(); beam += kReferenceStride)
+    for (std::size_t beam = 0; beam < echo.size(); beam += stride)
     {
-      const float value = echo.intensities[beam] * echo.ranges[beam] * echo.ranges[beam];
-      if (std::isfinite(value) && value > 0.0f)
-        values.push_back(value);
+      const float intensity = echo.intensities[beam];
+      const float range = echo.ranges[beam];
+      if (std::isfinite(intensity) && intensity > 0.0f && std::isfinite(range) && range > 0.0f)
+      {
+        raw.push_back(intensity);
+        compensated.push_back(intensity * range * range);
+      }
     }
-  return median(values);
+  IntensityScale scale;
+  if (raw.empty())
+    return scale;
+  std::vector<float> log_raw(raw.size()), log_compensated(raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i)
+  {
+    log_raw[i] = std::log(raw[i]);
+    log_compensated[i] = std::log(compensated[i]);
+  }
+  scale.range_compensated = medianAbsoluteDeviation(log_raw) < medianAbsoluteDeviation(log_compensated);
+  // The median raw signal * range^2: the intensities themselves when compensated.
+  scale.reference = median(scale.range_compensated ? raw : compensated);
+  return scale;
+}
+
+std::vector<Eigen::AlignedBox3f> echoBlockBoxes(const Sweep& sweep)
+{
+  std::vector<Eigen::AlignedBox3f> boxes;
+  const std::size_t beams = sweep.beamCount();
+  const auto all = [](std::size_t) { return true; };
+  for (std::size_t begin = 0; begin < beams; begin += kIntensityBlockBeams)
+  {
+    const std::size_t end = std::min(beams, begin + kIntensityBlockBeams);
+    Eigen::AlignedBox3f box = blockBox(sweep.echoes[0].points.data(), begin, end, all).box;
+    box.extend(blockBox(sweep.echoes[1].points.data(), begin, end, all).box);
+    boxes.push_back(box);
+  }
+  return boxes;
 }
 
 IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
-                                    const ReflectiveObject& object, float reference,
+                                    const ReflectiveObject& object, const IntensityScale& scale,
                                     const IntensityEvidenceConfig& config)
 {
+  return intensityFeatures(sweep, sensor_origin, object, scale, config, echoBlockBoxes(sweep));
+}
+
+IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
+                                    const ReflectiveObject& object, const IntensityScale& scale,
+                                    const IntensityEvidenceConfig& config,
+                                    const std::vector<Eigen::AlignedBox3f>& block_boxes)
+{
   IntensityFeatures out;
+  const float reference = scale.reference;
   if (!sweep.has_intensity || !(reference > 0.0f))
     return out;
   const OnObject on_object{ object, config.plane_threshold };
@@ -83,7 +161,7 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
   std::vector<float> faint, ratios;
   auto take = [&](const EchoCloud& echo, std::size_t beam) {
     const float range = echo.ranges[beam];
-    const float intensity = echo.intensities[beam];
+    const float intensity = scale.signal(echo.intensities[beam], range);
     if (!(range > 0.0f) || !std::isfinite(intensity))
       return;
     ++out.echoes;
@@ -95,8 +173,7 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     if (lit >= kFaintMin && lit < kFaint)
       faint.push_back(lit);
   };
-  for (std::size_t beam = 0; beam < sweep.beamCount(); ++beam)
-  {
+  auto visit = [&](std::size_t beam) {
     const EchoCloud& a = sweep.echoes[0];
     const EchoCloud& b = sweep.echoes[1];
     const bool a_first = !(b.ranges[beam] < a.ranges[beam]);
@@ -109,7 +186,26 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     if (two && on_object(far.points[beam]))
       take(far, beam);
     if (near_on && two && near.intensities[beam] > 0.0f && far.intensities[beam] > 0.0f)
-      ratios.push_back(far.intensities[beam] / near.intensities[beam]);
+      ratios.push_back(scale.signal(far.intensities[beam], far.ranges[beam]) /
+                       scale.signal(near.intensities[beam], near.ranges[beam]));
+  };
+  // Only the blocks of beams whose box meets the box of the object's slab (its rectangle, within
+  // plane_threshold of its plane): on a 1080 x 400 sweep a few hundred of 6750. The features are
+  // medians and counts, the same in any order.
+  Eigen::AlignedBox3f slab;
+  for (const float u : { -0.5f, 0.5f })
+    for (const float v : { -0.5f, 0.5f })
+      for (const float w : { -1.0f, 1.0f })
+        slab.extend(Eigen::Vector3f(object.centre + u * object.width * object.width_axis +
+                                    v * object.height * object.height_axis + w * config.plane_threshold * normal));
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t block = 0; block < block_boxes.size(); ++block)
+  {
+    if (!block_boxes[block].intersects(slab))
+      continue;
+    const std::size_t end = std::min(beams, (block + 1) * kIntensityBlockBeams);
+    for (std::size_t beam = block * kIntensityBlockBeams; beam < end; ++beam)
+      visit(beam);
   }
   float log_odds = 0.0f;
   if (out.off_peak >= kMinFeatureEchoes)
@@ -136,12 +232,15 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
 {
   if (objects.empty() || !sweep.has_intensity)
     return;
-  const float reference = intensityReference(sweep);
+  const IntensityScale scale = intensityScale(sweep);
+  const std::vector<Eigen::AlignedBox3f> block_boxes = echoBlockBoxes(sweep);
   const Eigen::Vector3f origin = context.sensorOrigin();
-  for (ReflectiveObject& object : objects)
+  for (std::size_t i = 0; i < objects.size(); ++i)
   {
-    object.intensity = intensityFeatures(sweep, origin, object, reference, config_);
-    if (object.type == ObjectType::unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds)
+    ReflectiveObject& object = objects[i];
+    object.intensity = intensityFeatures(sweep, origin, object, scale, config_, block_boxes);
+    if (object.type == ObjectType::unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds &&
+        !seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
     {
       object.type = object.intensity.log_odds > 0.0f ? ObjectType::mirror : ObjectType::glass;
       object.intensity.typed = true;

@@ -87,6 +87,7 @@ StageConfigs stageConfigs(const Params& params)
   configs.intensity.plane_threshold = static_cast<float>(params.plane_threshold);
   configs.intensity.echo_threshold = static_cast<float>(params.echo_threshold);
   configs.intensity.type_log_odds = static_cast<float>(params.intensity_type_log_odds);
+  configs.intensity.reach = static_cast<float>(params.growth_max_extent);
   auto feature = [](double mirror, double glass, double sigma) {
     return FeatureModel{ static_cast<float>(mirror), static_cast<float>(glass), static_cast<float>(sigma) };
   };

@@ -387,7 +387,7 @@ core::SweepContext contextWithPose(const py::object& pose)
 }
 
 // The intensity features of a known rectangle in one sweep (sensor at the origin), computed by the
-// core's intensity_evidence stage itself (intensityReference, intensityFeatures), so that
+// core's intensity_evidence stage itself (intensityScale, intensityFeatures), so that
 // scripts/calibrate_intensity fits the model on exactly what the stage measures.
 py::dict intensityFeaturesOf(const py::object& echo1, const py::object& echo2, const py::object& intensity1,
                              const py::object& intensity2, const std::array<std::array<double, 3>, 4>& corners,
@@ -437,7 +437,7 @@ py::dict intensityFeaturesOf(const py::object& echo1, const py::object& echo2, c
   core::IntensityFeatures f;
   {
     py::gil_scoped_release release;
-    f = core::intensityFeatures(sweep, Eigen::Vector3f::Zero(), object, core::intensityReference(sweep), config);
+    f = core::intensityFeatures(sweep, Eigen::Vector3f::Zero(), object, core::intensityScale(sweep), config);
   }
   py::dict d;
   d["echoes"] = f.echoes;

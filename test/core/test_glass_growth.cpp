@@ -175,5 +175,22 @@ TEST(GlassGrowth, OnlyGlassGrows)
   EXPECT_FALSE(objects[1].grown);
 }
 
+TEST(GlassGrowth, GlassTypedByItsIntensitiesAloneKeepsItsPatch)
+{
+  test::TracedScene scene;
+  scene.panels = wallWithOpenings({ { -1.0f, 1.0f, -0.5f, 1.0f } });
+  scene.panels.push_back({ 0, kWall, { -1.0f, -0.5f }, { 1.0f, 1.0f }, Surface::glass });
+  const core::Sweep sweep = scene.sweep(-55.0f, 55.0f, -40.0f, 40.0f, 0.4f);
+  const test::Detected detected(sweep);
+  std::vector<core::ReflectiveObject> objects{ test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::glass),
+                                               test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::glass) };
+  objects[1].intensity.typed = true;
+  core::SweepLabels labels = detected.labels;
+  core::GlassGrowth(growthConfig()).process(sweep, core::SweepContext(), detected.evidence, labels, objects);
+  EXPECT_TRUE(objects[0].grown) << "the same pane typed by the geometry grows";
+  EXPECT_FALSE(objects[1].grown);
+  EXPECT_FLOAT_EQ(objects[1].width, 0.2f);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

@@ -94,7 +94,7 @@ TEST(IntensityEvidence, MirrorHazeOverTheWholeFaceTypesAnUnknownObjectMirror)
   }
   const core::Sweep sweep = sweepOf(beams);
   const core::IntensityFeatures f =
-      core::intensityFeatures(sweep, Eigen::Vector3f::Zero(), object(), core::intensityReference(sweep), config());
+      core::intensityFeatures(sweep, Eigen::Vector3f::Zero(), object(), core::intensityScale(sweep), config());
   EXPECT_EQ(f.echoes, 30u);
   EXPECT_EQ(f.off_peak, 30u);
   EXPECT_FLOAT_EQ(f.faint_share, 1.0f);
@@ -182,17 +182,113 @@ TEST(IntensityEvidence, FeatureLogLikelihoodRatioFavoursTheNearerMean)
   EXPECT_NEAR(model.logLikelihoodRatio(-1.6f), 0.5f * (1.1f / 0.35f) * (1.1f / 0.35f), 1e-3f);
 }
 
-TEST(IntensityEvidence, ParameterTurnsTheStageOnWithTheModelFromTheTable)
+TEST(IntensityEvidence, OnByDefaultWithTheModelFromTheTableAndTheGrowthCapAsItsReach)
 {
   core::Params params;
+  EXPECT_TRUE(core::stageConfigs(params).intensity.enabled);
+  params.intensity_evidence = 0;
   EXPECT_FALSE(core::stageConfigs(params).intensity.enabled);
   params.intensity_evidence = 1;
   params.intensity_haze_mirror = -1.2;
+  params.growth_max_extent = 0.7;
   const core::IntensityEvidenceConfig c = core::stageConfigs(params).intensity;
   EXPECT_TRUE(c.enabled);
   EXPECT_FLOAT_EQ(c.model.haze.mirror, -1.2f);
   EXPECT_FLOAT_EQ(c.model.faint_share.glass, static_cast<float>(params.intensity_faint_share_glass));
   EXPECT_FLOAT_EQ(c.plane_threshold, static_cast<float>(params.plane_threshold));
+  EXPECT_FLOAT_EQ(c.reach, 0.7f);
+}
+
+// Walls at ranges from 1 to 10 m of reflectivities from 0.6 to 1.4: a raw signal falls with
+// range squared, a reflectivity does not.
+void addRoom(std::vector<std::pair<Echo, Echo>>& beams, int count, bool range_compensated)
+{
+  for (int i = 0; i < count; ++i)
+  {
+    const float range = 1.0f + 9.0f * static_cast<float>(i % 37) / 36.0f;
+    const float reflectivity = 0.6f + 0.8f * static_cast<float>(i % 11) / 10.0f;
+    const Eigen::Vector3f p = range * Eigen::Vector3f(-0.8f, 0.6f, 0.0f);
+    beams.push_back({ Echo{ p, range_compensated ? reflectivity : reflectivity / (range * range) }, kNone });
+  }
+}
+
+// A mirror's haze off the peak with a phantom behind each echo, as a raw signal or compensated.
+void addMirrorHaze(std::vector<std::pair<Echo, Echo>>& beams, bool range_compensated)
+{
+  for (int i = 0; i < 30; ++i)
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    const float haze = 0.02f * cosIncidence(p) / p.squaredNorm();
+    const Eigen::Vector3f phantom = p * 2.0f;
+    const float scale_near = range_compensated ? p.squaredNorm() : 1.0f;
+    const float scale_far = range_compensated ? phantom.squaredNorm() : 1.0f;
+    beams.push_back({ Echo{ p, haze * scale_near }, Echo{ phantom, 4.0f * haze * scale_far } });
+  }
+}
+
+TEST(IntensityEvidence, ARangeCompensatedReflectivityIsToldFromTheSweepAndGivesTheSameFeatures)
+{
+  core::IntensityFeatures features[2];
+  for (const bool compensated : { false, true })
+  {
+    std::vector<std::pair<Echo, Echo>> beams;
+    addRoom(beams, 400, compensated);
+    addMirrorHaze(beams, compensated);
+    const core::Sweep sweep = sweepOf(beams);
+    const core::IntensityScale scale = core::intensityScale(sweep);
+    EXPECT_EQ(scale.range_compensated, compensated);
+    features[compensated ? 1 : 0] = core::intensityFeatures(sweep, Eigen::Vector3f::Zero(), object(), scale, config());
+  }
+  const core::IntensityFeatures& raw = features[0];
+  const core::IntensityFeatures& compensated = features[1];
+  EXPECT_EQ(raw.off_peak, 30u);
+  EXPECT_FLOAT_EQ(raw.faint_share, 1.0f);
+  EXPECT_GT(raw.log_odds, config().type_log_odds);
+  EXPECT_EQ(compensated.off_peak, raw.off_peak);
+  EXPECT_FLOAT_EQ(compensated.faint_share, raw.faint_share);
+  EXPECT_NEAR(compensated.haze, raw.haze, 1e-3f * raw.haze);
+  EXPECT_NEAR(compensated.echo_ratio, raw.echo_ratio, 1e-3f * raw.echo_ratio);
+  EXPECT_NEAR(compensated.log_odds, raw.log_odds, 1e-3f);
+}
+
+TEST(IntensityEvidence, AnObjectSeenBehindAnotherIsNotTypedByItsIntensities)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  addMirrorHaze(beams, false);
+  const core::Sweep sweep = sweepOf(beams);
+  std::vector<core::PointRef> haze_echoes;
+  for (std::size_t beam = 200; beam < 230; ++beam)
+    haze_echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam), 0 });
+
+  // A pane 1 m in front of the object, 0.2 m wide, beside the object's echoes: they lie behind its
+  // plane 0.2 m and more beside its rectangle (seen through it, when the pane is larger than its patch).
+  core::ReflectiveObject pane = object(core::ObjectType::glass);
+  pane.plane = Eigen::Vector4f(-1.0f, 0.0f, 0.0f, 1.0f);
+  pane.centre = Eigen::Vector3f(1.0f, -0.2f, 0.0f);
+  pane.width = 0.2f;
+  core::ReflectiveObject behind = object();
+  behind.surface_inliers = haze_echoes;
+
+  core::IntensityEvidenceConfig c = config();
+  core::SweepLabels labels;
+  for (const float reach : { 1.5f, 0.1f })
+  {
+    c.reach = reach;
+    std::vector<core::ReflectiveObject> objects{ behind, pane };
+    core::IntensityEvidence(c).process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+    EXPECT_GT(objects[0].intensity.log_odds, c.type_log_odds) << "the features are computed all the same";
+    if (reach > 1.0f)
+    {
+      EXPECT_EQ(objects[0].type, core::ObjectType::unknown) << "within reach of the pane";
+      EXPECT_FALSE(objects[0].intensity.typed);
+    }
+    else
+    {
+      EXPECT_EQ(objects[0].type, core::ObjectType::mirror) << "beyond the reach of the pane's rectangle";
+      EXPECT_TRUE(objects[0].intensity.typed);
+    }
+  }
 }
 
 }  // namespace
