@@ -233,7 +233,19 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
   if (objects.empty() || !sweep.has_intensity)
     return;
   const IntensityScale scale = intensityScale(sweep);
-  const std::vector<Eigen::AlignedBox3f> block_boxes = echoBlockBoxes(sweep);
+  static_assert(ObjectTypeAnalyzer::kBlockBoxBeams == kIntensityBlockBeams, "the same blocks");
+  const auto* analysed = type_analyzer_ ? type_analyzer_->blockBoxes(sweep) : nullptr;
+  if (analysed)
+  {
+    block_boxes_.resize((*analysed)[0].size());
+    for (std::size_t block = 0; block < block_boxes_.size(); ++block)
+      block_boxes_[block] = (*analysed)[0][block].merged((*analysed)[1][block]);
+  }
+  else
+  {
+    block_boxes_ = echoBlockBoxes(sweep);
+  }
+  const std::vector<Eigen::AlignedBox3f>& block_boxes = block_boxes_;
   const Eigen::Vector3f origin = context.sensorOrigin();
   for (std::size_t i = 0; i < objects.size(); ++i)
   {

@@ -101,7 +101,7 @@ constexpr float kMaxTiltUncertainty = 2.0f * static_cast<float>(M_PI) / 180.0f;
 
 // Beams per block of the sweep's block boxes (see ObjectTypeAnalyzer::beginSweep), and the
 // slack of the tests on them, far above float rounding.
-constexpr std::size_t kBlockBeams = 64;
+constexpr std::size_t kBlockBeams = ObjectTypeAnalyzer::kBlockBoxBeams;
 constexpr float kBlockSlack = 1e-4f;
 
 // Least and largest signed distance from the plane (n, d) of any point of the box.
@@ -274,6 +274,11 @@ ObjectTypeAnalyzer::ObjectTypeAnalyzer(const ObjectTypeConfig& config) : config_
 ObjectTypeAnalyzer::~ObjectTypeAnalyzer() = default;
 ObjectTypeAnalyzer::ObjectTypeAnalyzer(ObjectTypeAnalyzer&&) noexcept = default;
 ObjectTypeAnalyzer& ObjectTypeAnalyzer::operator=(ObjectTypeAnalyzer&&) noexcept = default;
+
+const std::array<std::vector<Eigen::AlignedBox3f>, 2>* ObjectTypeAnalyzer::blockBoxes(const Sweep& sweep) const
+{
+  return boxes_->of(sweep);
+}
 
 void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
 {

@@ -78,7 +78,7 @@ std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& co
     stages.push_back(std::make_unique<PhantomPlanes>(configs.phantom_planes));
   // Before the growth stages, which grow mirrors and panes by their type.
   if (configs.intensity.enabled)
-    stages.push_back(std::make_unique<IntensityEvidence>(configs.intensity));
+    stages.push_back(std::make_unique<IntensityEvidence>(configs.intensity, &type_analyzer));
   if (configs.growth.mirrors)
     stages.push_back(std::make_unique<MirrorGrowth>(configs.growth));
   if (configs.growth.panes)

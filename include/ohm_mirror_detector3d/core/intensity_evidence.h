@@ -27,6 +27,7 @@
 #pragma once
 
 #include "ohm_mirror_detector3d/core/object_stage.h"
+#include "ohm_mirror_detector3d/core/object_type.h"
 
 #include <Eigen/Geometry>
 #include <limits>
@@ -128,7 +129,12 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
 class IntensityEvidence : public ObjectStage
 {
 public:
-  explicit IntensityEvidence(const IntensityEvidenceConfig& config) : config_(config) {}
+  // `type_analyzer` (optional): the pipeline's, whose block boxes of the sweep (beginSweep) this
+  // stage then reads instead of working them out again (3-5 ms on a 1080 x 400 sweep).
+  explicit IntensityEvidence(const IntensityEvidenceConfig& config, const ObjectTypeAnalyzer* type_analyzer = nullptr)
+    : config_(config), type_analyzer_(type_analyzer)
+  {
+  }
 
   const char* name() const override { return "intensity_evidence"; }
 
@@ -137,6 +143,8 @@ public:
 
 private:
   IntensityEvidenceConfig config_;
+  const ObjectTypeAnalyzer* type_analyzer_;
+  std::vector<Eigen::AlignedBox3f> block_boxes_;
 };
 
 }  // namespace core

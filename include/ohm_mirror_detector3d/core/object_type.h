@@ -3,6 +3,10 @@
 // of all of them at once.
 #pragma once
 
+#include <array>
+#include <vector>
+#include <Eigen/Geometry>
+
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
@@ -65,6 +69,12 @@ public:
   // skips blocks that cannot hold a point it looks for (same result). Valid for this sweep
   // object until its points change: call it again for every sweep (Pipeline does).
   void beginSweep(const Sweep& sweep);
+
+  // Beams per block of those boxes.
+  static constexpr std::size_t kBlockBoxBeams = 64;
+  // Those boxes of echo 0 and echo 1 (all their finite points) when beginSweep was called for
+  // this sweep, else null: the intensity evidence reads them too instead of a pass of its own.
+  const std::array<std::vector<Eigen::AlignedBox3f>, 2>* blockBoxes(const Sweep& sweep) const;
 
   // Refines the plane of an object that an object stage grew, the way analyze() does (the same
   // sample, landing test and refinement, surface echoes and all), from the points behind its
