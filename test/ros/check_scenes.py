@@ -30,6 +30,7 @@ MIRROR, GLASS, UNKNOWN = 1, 2, 0
 TYPE_NAMES = {UNKNOWN: 'unknown', MIRROR: 'mirror', GLASS: 'glass'}
 # Pinned to the ideal physics (glass never reflects, no mixed pixels) until the filter work of
 # issue 14: with the realistic physics today's filter misses these thresholds (README, "Pinned tests").
+# Its intensities are not realistic either: scenes.test switches the intensity evidence off.
 PHYSICS = PhysicsParams.ideal()
 
 # The paper's detected sizes (width x height, m) for the README comparison.
