@@ -160,33 +160,34 @@ TEST(GlassGrowth, APaneDoesNotGrowOverAMirrorInItsWall)
   }
 }
 
-TEST(GlassGrowth, OnlyGlassGrows)
+// The growth stage on `objects`, patches at the foot of a 2 x 1.5 m pane in the wall.
+std::vector<core::ReflectiveObject> grownInAPane(std::vector<core::ReflectiveObject> objects)
 {
   test::TracedScene scene;
   scene.panels = wallWithOpenings({ { -1.0f, 1.0f, -0.5f, 1.0f } });
   scene.panels.push_back({ 0, kWall, { -1.0f, -0.5f }, { 1.0f, 1.0f }, Surface::glass });
   const core::Sweep sweep = scene.sweep(-55.0f, 55.0f, -40.0f, 40.0f, 0.4f);
   const test::Detected detected(sweep);
-  std::vector<core::ReflectiveObject> objects{ test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::mirror),
-                                               test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::unknown) };
   core::SweepLabels labels = detected.labels;
   core::GlassGrowth(growthConfig()).process(sweep, core::SweepContext(), detected.evidence, labels, objects);
+  return objects;
+}
+
+TEST(GlassGrowth, OnlyGlassGrows)
+{
+  const std::vector<core::ReflectiveObject> objects =
+      grownInAPane({ test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::mirror),
+                     test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::unknown) });
   EXPECT_FALSE(objects[0].grown);
   EXPECT_FALSE(objects[1].grown);
 }
 
 TEST(GlassGrowth, GlassTypedByItsIntensitiesAloneKeepsItsPatch)
 {
-  test::TracedScene scene;
-  scene.panels = wallWithOpenings({ { -1.0f, 1.0f, -0.5f, 1.0f } });
-  scene.panels.push_back({ 0, kWall, { -1.0f, -0.5f }, { 1.0f, 1.0f }, Surface::glass });
-  const core::Sweep sweep = scene.sweep(-55.0f, 55.0f, -40.0f, 40.0f, 0.4f);
-  const test::Detected detected(sweep);
-  std::vector<core::ReflectiveObject> objects{ test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::glass),
-                                               test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::glass) };
-  objects[1].intensity.typed = true;
-  core::SweepLabels labels = detected.labels;
-  core::GlassGrowth(growthConfig()).process(sweep, core::SweepContext(), detected.evidence, labels, objects);
+  core::ReflectiveObject by_intensity = test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::glass);
+  by_intensity.intensity.typed = true;
+  const std::vector<core::ReflectiveObject> objects =
+      grownInAPane({ test::patchAt(kWall, 0.0f, 0.0f, 0.2f, core::ObjectType::glass), by_intensity });
   EXPECT_TRUE(objects[0].grown) << "the same pane typed by the geometry grows";
   EXPECT_FALSE(objects[1].grown);
   EXPECT_FLOAT_EQ(objects[1].width, 0.2f);
