@@ -124,32 +124,18 @@ IntensityScale intensityScale(const Sweep& sweep)
   return scale;
 }
 
-std::vector<Eigen::AlignedBox3f> echoBlockBoxes(const Sweep& sweep)
-{
-  std::vector<Eigen::AlignedBox3f> boxes;
-  const std::size_t beams = sweep.beamCount();
-  const auto all = [](std::size_t) { return true; };
-  for (std::size_t begin = 0; begin < beams; begin += kIntensityBlockBeams)
-  {
-    const std::size_t end = std::min(beams, begin + kIntensityBlockBeams);
-    Eigen::AlignedBox3f box = blockBox(sweep.echoes[0].points.data(), begin, end, all).box;
-    box.extend(blockBox(sweep.echoes[1].points.data(), begin, end, all).box);
-    boxes.push_back(box);
-  }
-  return boxes;
-}
-
 IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
                                     const ReflectiveObject& object, const IntensityScale& scale,
                                     const IntensityEvidenceConfig& config)
 {
-  return intensityFeatures(sweep, sensor_origin, object, scale, config, echoBlockBoxes(sweep));
+  SweepBlockBoxes block_boxes;
+  sweepBlockBoxes(sweep, kIntensityBlockBeams, block_boxes);
+  return intensityFeatures(sweep, sensor_origin, object, scale, config, block_boxes);
 }
 
 IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
                                     const ReflectiveObject& object, const IntensityScale& scale,
-                                    const IntensityEvidenceConfig& config,
-                                    const std::vector<Eigen::AlignedBox3f>& block_boxes)
+                                    const IntensityEvidenceConfig& config, const SweepBlockBoxes& block_boxes)
 {
   IntensityFeatures out;
   const float reference = scale.reference;
@@ -189,9 +175,9 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
       ratios.push_back(scale.signal(far.intensities[beam], far.ranges[beam]) /
                        scale.signal(near.intensities[beam], near.ranges[beam]));
   };
-  // Only the blocks of beams whose box meets the box of the object's slab (its rectangle, within
-  // plane_threshold of its plane): on a 1080 x 400 sweep a few hundred of 6750. The features are
-  // medians and counts, the same in any order.
+  // Only the blocks of beams where either echo's box meets the box of the object's slab (its
+  // rectangle, within plane_threshold of its plane): on a 1080 x 400 sweep a few hundred of 6750.
+  // The features are medians and counts, the same in any order.
   Eigen::AlignedBox3f slab;
   for (const float u : { -0.5f, 0.5f })
     for (const float v : { -0.5f, 0.5f })
@@ -199,9 +185,9 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
         slab.extend(Eigen::Vector3f(object.centre + u * object.width * object.width_axis +
                                     v * object.height * object.height_axis + w * config.plane_threshold * normal));
   const std::size_t beams = sweep.beamCount();
-  for (std::size_t block = 0; block < block_boxes.size(); ++block)
+  for (std::size_t block = 0; block < block_boxes[0].size(); ++block)
   {
-    if (!block_boxes[block].intersects(slab))
+    if (!block_boxes[0][block].intersects(slab) && !block_boxes[1][block].intersects(slab))
       continue;
     const std::size_t end = std::min(beams, (block + 1) * kIntensityBlockBeams);
     for (std::size_t beam = block * kIntensityBlockBeams; beam < end; ++beam)
@@ -233,24 +219,20 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
   if (objects.empty() || !sweep.has_intensity)
     return;
   const IntensityScale scale = intensityScale(sweep);
+  // The type analysis's boxes of this sweep when the pipeline gave it (the same blocks).
   static_assert(ObjectTypeAnalyzer::kBlockBoxBeams == kIntensityBlockBeams, "the same blocks");
-  const auto* analysed = type_analyzer_ ? type_analyzer_->blockBoxes(sweep) : nullptr;
-  if (analysed)
+  const SweepBlockBoxes* block_boxes = type_analyzer_ ? type_analyzer_->blockBoxes(sweep) : nullptr;
+  SweepBlockBoxes own_boxes;
+  if (block_boxes == nullptr)
   {
-    block_boxes_.resize((*analysed)[0].size());
-    for (std::size_t block = 0; block < block_boxes_.size(); ++block)
-      block_boxes_[block] = (*analysed)[0][block].merged((*analysed)[1][block]);
+    sweepBlockBoxes(sweep, kIntensityBlockBeams, own_boxes);
+    block_boxes = &own_boxes;
   }
-  else
-  {
-    block_boxes_ = echoBlockBoxes(sweep);
-  }
-  const std::vector<Eigen::AlignedBox3f>& block_boxes = block_boxes_;
   const Eigen::Vector3f origin = context.sensorOrigin();
   for (std::size_t i = 0; i < objects.size(); ++i)
   {
     ReflectiveObject& object = objects[i];
-    object.intensity = intensityFeatures(sweep, origin, object, scale, config_, block_boxes);
+    object.intensity = intensityFeatures(sweep, origin, object, scale, config_, *block_boxes);
     if (object.type == ObjectType::unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds &&
         !seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
     {

@@ -235,11 +235,11 @@ float tiltUncertainty(const std::vector<Eigen::Vector3f>& surface, const Reflect
 // they belong to (see beginSweep): read by every object's analysis.
 struct ObjectTypeAnalyzer::SweepBoxes
 {
-  std::array<std::vector<Eigen::AlignedBox3f>, 2> block_boxes;
+  SweepBlockBoxes block_boxes;
   const Sweep* boxes_of = nullptr;
   std::size_t boxes_beams = 0;
 
-  const std::array<std::vector<Eigen::AlignedBox3f>, 2>* of(const Sweep& sweep) const
+  const SweepBlockBoxes* of(const Sweep& sweep) const
   {
     return boxes_of == &sweep && boxes_beams == sweep.beamCount() ? &block_boxes : nullptr;
   }
@@ -275,7 +275,7 @@ ObjectTypeAnalyzer::~ObjectTypeAnalyzer() = default;
 ObjectTypeAnalyzer::ObjectTypeAnalyzer(ObjectTypeAnalyzer&&) noexcept = default;
 ObjectTypeAnalyzer& ObjectTypeAnalyzer::operator=(ObjectTypeAnalyzer&&) noexcept = default;
 
-const std::array<std::vector<Eigen::AlignedBox3f>, 2>* ObjectTypeAnalyzer::blockBoxes(const Sweep& sweep) const
+const SweepBlockBoxes* ObjectTypeAnalyzer::blockBoxes(const Sweep& sweep) const
 {
   return boxes_->of(sweep);
 }
@@ -283,19 +283,9 @@ const std::array<std::vector<Eigen::AlignedBox3f>, 2>* ObjectTypeAnalyzer::block
 void ObjectTypeAnalyzer::beginSweep(const Sweep& sweep)
 {
   SweepBoxes& b = *boxes_;
-  const std::size_t beams = sweep.beamCount();
-  for (std::size_t k = 0; k < 2; ++k)
-  {
-    std::vector<Eigen::AlignedBox3f>& boxes = b.block_boxes[k];
-    boxes.resize((beams + kBlockBeams - 1) / kBlockBeams);
-    const Eigen::Vector3f* points = sweep.echoes[k].points.data();
-    for (std::size_t block = 0; block < boxes.size(); ++block)
-      boxes[block] = blockBox(points, block * kBlockBeams, std::min(beams, (block + 1) * kBlockBeams),
-                              [](std::size_t) { return true; })
-                         .box;
-  }
+  sweepBlockBoxes(sweep, kBlockBeams, b.block_boxes);
   b.boxes_of = &sweep;
-  b.boxes_beams = beams;
+  b.boxes_beams = sweep.beamCount();
 }
 
 void ObjectTypeAnalyzer::analyzeAll(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,

@@ -2,8 +2,13 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <limits>
+#include <vector>
+
+#include "ohm_mirror_detector3d/core/sweep.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -50,6 +55,24 @@ BlockBox blockBox(const Eigen::Vector3f* points, std::size_t begin, std::size_t 
   if (finite_count > 0)
     result.box = Eigen::AlignedBox3f(Eigen::Vector3f(low_x, low_y, low_z), Eigen::Vector3f(high_x, high_y, high_z));
   return result;
+}
+
+// The box of all finite points of each block of `block_beams` beams, per echo (echo k's block b:
+// boxes[k][b]): what the stages that read a sweep block by block skip with.
+using SweepBlockBoxes = std::array<std::vector<Eigen::AlignedBox3f>, 2>;
+
+inline void sweepBlockBoxes(const Sweep& sweep, std::size_t block_beams, SweepBlockBoxes& boxes)
+{
+  const std::size_t beams = sweep.beamCount();
+  for (std::size_t k = 0; k < 2; ++k)
+  {
+    boxes[k].resize((beams + block_beams - 1) / block_beams);
+    const Eigen::Vector3f* points = sweep.echoes[k].points.data();
+    for (std::size_t block = 0; block < boxes[k].size(); ++block)
+      boxes[k][block] = blockBox(points, block * block_beams, std::min(beams, (block + 1) * block_beams),
+                                 [](std::size_t) { return true; })
+                            .box;
+  }
 }
 
 }  // namespace core

@@ -29,9 +29,7 @@
 #include "ohm_mirror_detector3d/core/object_stage.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
 
-#include <Eigen/Geometry>
 #include <limits>
-#include <vector>
 
 namespace ohm_mirror_detector3d
 {
@@ -107,24 +105,20 @@ struct IntensityScale
 
 IntensityScale intensityScale(const Sweep& sweep);
 
-// Beams per block of echoBlockBoxes.
+// Beams per block of the sweep block boxes (block_box.h) intensityFeatures skips blocks by.
 constexpr std::size_t kIntensityBlockBeams = 64;
 // IntensityScale is worked out from at most about this many returns.
 constexpr std::size_t kMaxScaleSamples = 16384;
-
-// The bounding box of both echoes' points of each block of kIntensityBlockBeams beams, for
-// intensityFeatures to visit only the blocks that may hold an echo on the object.
-std::vector<Eigen::AlignedBox3f> echoBlockBoxes(const Sweep& sweep);
 
 // The features and log-odds of one object (its intensity member is not touched).
 IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
                                     const ReflectiveObject& object, const IntensityScale& scale,
                                     const IntensityEvidenceConfig& config);
-// The same with the sweep's echoBlockBoxes worked out once for all objects.
+// The same with the sweep block boxes (of kIntensityBlockBeams beams) worked out once for
+// all objects.
 IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
                                     const ReflectiveObject& object, const IntensityScale& scale,
-                                    const IntensityEvidenceConfig& config,
-                                    const std::vector<Eigen::AlignedBox3f>& block_boxes);
+                                    const IntensityEvidenceConfig& config, const SweepBlockBoxes& block_boxes);
 
 class IntensityEvidence : public ObjectStage
 {
@@ -144,7 +138,6 @@ public:
 private:
   IntensityEvidenceConfig config_;
   const ObjectTypeAnalyzer* type_analyzer_;
-  std::vector<Eigen::AlignedBox3f> block_boxes_;
 };
 
 }  // namespace core

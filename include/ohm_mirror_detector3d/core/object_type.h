@@ -3,14 +3,11 @@
 // of all of them at once.
 #pragma once
 
-#include <array>
-#include <vector>
-#include <Eigen/Geometry>
-
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/block_box.h"
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
 #include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/reflective_object.h"
@@ -74,7 +71,7 @@ public:
   static constexpr std::size_t kBlockBoxBeams = 64;
   // Those boxes of echo 0 and echo 1 (all their finite points) when beginSweep was called for
   // this sweep, else null: the intensity evidence reads them too instead of a pass of its own.
-  const std::array<std::vector<Eigen::AlignedBox3f>, 2>* blockBoxes(const Sweep& sweep) const;
+  const SweepBlockBoxes* blockBoxes(const Sweep& sweep) const;
 
   // Refines the plane of an object that an object stage grew, the way analyze() does (the same
   // sample, landing test and refinement, surface echoes and all), from the points behind its
