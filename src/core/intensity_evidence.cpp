@@ -82,6 +82,26 @@ bool seenBehindAnother(const std::vector<ReflectiveObject>& objects, std::size_t
 }
 }  // namespace
 
+bool diffuseReflector(const IntensityFeatures& features)
+{
+  return features.bright_off_peak >= kMinDiffuseReflectorEchoes &&
+         static_cast<float>(features.bright_off_peak) >= kDiffuseReflectorShare * static_cast<float>(features.off_peak) &&
+         features.bright_backed_share >= kDiffuseReflectorBackedShare;
+}
+
+bool diffuseReflector(const ReflectiveObject& object)
+{
+  return std::min(object.width, object.height) >= kMinDiffuseReflectorSide &&
+         object.evidence.surface_backed_share >= kDiffuseReflectorSurfaceBackedShare && diffuseReflector(object.intensity);
+}
+
+bool diffuseReflectorMayOverrule(const ReflectiveObject& object)
+{
+  const TypeEvidence& e = object.evidence;
+  return object.type == ObjectType::glass && !e.typed_by_dim_phantoms &&
+         e.transmitted_points <= kSeenThroughDominance * (e.phantom_points + e.undecided_points);
+}
+
 float FeatureModel::logLikelihoodRatio(float x) const
 {
   const float a = (x - mirror) / sigma;
@@ -145,7 +165,10 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
   const Eigen::Vector3f normal = object.plane.head<3>();
   const float cos_off_peak = std::cos(kOffPeakDeg * static_cast<float>(M_PI) / 180.0f);
   std::vector<float> faint, ratios;
-  auto take = [&](const EchoCloud& echo, std::size_t beam) {
+  std::size_t bright_backed = 0, bright_near = 0;
+  // behind: echo is the beam's near echo and its far echo lies behind the plane (else false;
+  // near: it is the near echo).
+  auto take = [&](const EchoCloud& echo, std::size_t beam, bool near, bool behind) {
     const float range = echo.ranges[beam];
     const float intensity = scale.signal(echo.intensities[beam], range);
     if (!(range > 0.0f) || !std::isfinite(intensity))
@@ -158,6 +181,12 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     const float lit = intensity * range * range / reference / std::max(cos_incidence, 1e-3f);
     if (lit >= kFaintMin && lit < kFaint)
       faint.push_back(lit);
+    if (lit >= kFaint)
+    {
+      ++out.bright_off_peak;
+      bright_near += near ? 1 : 0;
+      bright_backed += behind ? 1 : 0;
+    }
   };
   auto visit = [&](std::size_t beam) {
     const EchoCloud& a = sweep.echoes[0];
@@ -168,9 +197,9 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     const bool near_on = on_object(near.points[beam]);
     const bool two = far.ranges[beam] - near.ranges[beam] > config.echo_threshold;
     if (near_on)
-      take(near, beam);
+      take(near, beam, true, two && object.signedDistance(far.points[beam]) < -config.plane_threshold);
     if (two && on_object(far.points[beam]))
-      take(far, beam);
+      take(far, beam, false, false);
     if (near_on && two && near.intensities[beam] > 0.0f && far.intensities[beam] > 0.0f)
       ratios.push_back(scale.signal(far.intensities[beam], far.ranges[beam]) /
                        scale.signal(near.intensities[beam], near.ranges[beam]));
@@ -193,6 +222,8 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     for (std::size_t beam = block * kIntensityBlockBeams; beam < end; ++beam)
       visit(beam);
   }
+  if (bright_near > 0)
+    out.bright_backed_share = static_cast<float>(bright_backed) / static_cast<float>(bright_near);
   float log_odds = 0.0f;
   if (out.off_peak >= kMinFeatureEchoes)
   {
@@ -233,8 +264,15 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
   {
     ReflectiveObject& object = objects[i];
     object.intensity = intensityFeatures(sweep, origin, object, scale, config_, *block_boxes);
-    if (object.type == ObjectType::unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds &&
-        !seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
+    const bool open_to_intensity = object.type == ObjectType::unknown || diffuseReflectorMayOverrule(object);
+    if (!open_to_intensity || seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
+      continue;
+    if (diffuseReflector(object))
+    {
+      object.type = ObjectType::mirror;
+      object.intensity.diffuse_reflector = true;
+    }
+    else if (object.type == ObjectType::unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds)
     {
       object.type = object.intensity.log_odds > 0.0f ? ObjectType::mirror : ObjectType::glass;
       object.intensity.typed = true;

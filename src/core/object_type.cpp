@@ -342,6 +342,10 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
   const float origin_side = object.signedDistance(sensor_origin);
   const float inside_width = 0.5f * object.width - std::min(kTypeBorder, 0.25f * object.width);
   const float inside_height = 0.5f * object.height - std::min(kTypeBorder, 0.25f * object.height);
+  std::size_t inside_count = 0, inside_backed = 0;
+  // Echoes nearer the plane than this may be a surface echo merged with its reflection (see
+  // kMergedEchoReach): one echo, no surface echo before it. They do not count for the share.
+  const float merged_reach = kMergedEchoReach * evidence.echoSeparation();
   forEachPointBehind(sweep, labels, cone, object, plane_threshold, block_boxes,
                      [&](std::size_t k, std::size_t i, const Eigen::Vector3f& p, float point_side) {
                        const std::vector<float>& intensities = sweep.echoes[k].intensities;
@@ -351,9 +355,19 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
                        b.all_behind.push_back(p);
                        b.all_intensity.push_back(i < intensities.size() ? intensities[i] :
                                                                           std::numeric_limits<float>::quiet_NaN());
-                       b.all_inside.push_back(std::fabs(crossing.dot(object.width_axis)) <= inside_width &&
-                                              std::fabs(crossing.dot(object.height_axis)) <= inside_height);
+                       const bool inside = std::fabs(crossing.dot(object.width_axis)) <= inside_width &&
+                                           std::fabs(crossing.dot(object.height_axis)) <= inside_height;
+                       b.all_inside.push_back(inside);
+                       if (inside && -point_side >= merged_reach)
+                       {
+                         ++inside_count;
+                         // NaN (no other echo) compares false.
+                         const Eigen::Vector3f& other = sweep.echoes[1 - k].points[i];
+                         inside_backed += std::fabs(object.signedDistance(other)) <= plane_threshold ? 1 : 0;
+                       }
                      });
+  if (inside_count > 0)
+    result.surface_backed_share = static_cast<float>(inside_backed) / static_cast<float>(inside_count);
   const std::size_t total = b.all_behind.size();
   result.mirrored_points = total;
   if (total < min_points)

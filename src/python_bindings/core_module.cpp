@@ -290,6 +290,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["tested_points"] = e.tested_points;
   d["inlier_fraction"] = static_cast<double>(e.inlier_fraction);
   d["real_fraction"] = static_cast<double>(e.real_fraction);
+  d["surface_backed_share"] = static_cast<double>(e.surface_backed_share);
   d["phantom_intensity_share"] = static_cast<double>(e.phantom_intensity_share);
   d["phantom_share_points"] = e.phantom_share_points;
   d["dim_phantom_fraction"] = static_cast<double>(e.dim_phantom_fraction);
@@ -306,6 +307,9 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["intensity_echoes"] = intensity.echoes;
   d["intensity_off_peak"] = intensity.off_peak;
   d["intensity_faint_share"] = static_cast<double>(intensity.faint_share);
+  d["intensity_bright_off_peak"] = static_cast<double>(intensity.bright_off_peak);
+  d["intensity_bright_backed_share"] = static_cast<double>(intensity.bright_backed_share);
+  d["intensity_diffuse_reflector"] = intensity.diffuse_reflector;
   d["intensity_haze"] = static_cast<double>(intensity.haze);
   d["intensity_echo_ratio"] = static_cast<double>(intensity.echo_ratio);
   d["intensity_log_odds"] = static_cast<double>(intensity.log_odds);

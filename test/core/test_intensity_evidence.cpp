@@ -138,6 +138,9 @@ TEST(IntensityEvidence, BrightFrameOffThePeakAndFaintReflectionsTypeAnUnknownObj
   EXPECT_FLOAT_EQ(f.faint_share, 0.0f);
   EXPECT_TRUE(std::isnan(f.haze)) << "no faint echo";
   EXPECT_NEAR(f.echo_ratio, 0.001f, 1e-6f);
+  EXPECT_EQ(f.bright_off_peak, 20u);
+  EXPECT_FLOAT_EQ(f.bright_backed_share, 0.0f) << "nothing behind the frame";
+  EXPECT_FALSE(core::diffuseReflector(f));
   EXPECT_LT(f.log_odds, -config().type_log_odds);
   EXPECT_EQ(objects[0].type, core::ObjectType::glass);
   EXPECT_TRUE(objects[0].intensity.typed);
@@ -289,6 +292,118 @@ TEST(IntensityEvidence, AnObjectSeenBehindAnotherIsNotTypedByItsIntensities)
       EXPECT_TRUE(objects[0].intensity.typed);
     }
   }
+}
+
+// Shiny metal: off its peak lit like a wall (30 % of the reference over cos(incidence)), each echo with
+// its reflection behind the plane; `backed` of the 30 beams have it.
+void addShinyMetal(std::vector<std::pair<Echo, Echo>>& beams, int backed = 30)
+{
+  for (int i = 0; i < 30; ++i)
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    const float lit = 0.3f * cosIncidence(p) / p.squaredNorm();
+    beams.push_back({ Echo{ p, lit }, i < backed ? Echo{ p * 1.4f, 0.25f * lit } : kNone });
+  }
+}
+
+// An object the type analysis looked at, every point behind its inside with a surface echo in front.
+core::ReflectiveObject analysed(core::ObjectType type = core::ObjectType::unknown)
+{
+  core::ReflectiveObject o = object(type);
+  o.evidence.surface_backed_share = 1.0f;
+  return o;
+}
+
+// An object the geometry typed glass: its points behind, as the type analysis counted them.
+core::ReflectiveObject geometricGlass(std::size_t phantoms, std::size_t transmitted, std::size_t undecided)
+{
+  core::ReflectiveObject o = analysed(core::ObjectType::glass);
+  o.evidence.phantom_points = phantoms;
+  o.evidence.transmitted_points = transmitted;
+  o.evidence.undecided_points = undecided;
+  return o;
+}
+
+TEST(IntensityEvidence, ShinyMetalIsAMirrorWhereTheGeometrySaidGlassOrNothing)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  addShinyMetal(beams);
+  const core::Sweep sweep = sweepOf(beams);
+  // Unknown; glass from occluded points (none seen through); glass with some seen through, fewer than
+  // twice the rest; a mirror.
+  std::vector<core::ReflectiveObject> objects{ analysed(), geometricGlass(0, 0, 220), geometricGlass(20, 130, 50),
+                                               analysed(core::ObjectType::mirror) };
+  core::IntensityEvidence stage(config());
+  core::SweepLabels labels;
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  const core::IntensityFeatures& f = objects[0].intensity;
+  EXPECT_EQ(f.off_peak, 30u);
+  EXPECT_EQ(f.bright_off_peak, 30u);
+  EXPECT_FLOAT_EQ(f.bright_backed_share, 1.0f);
+  EXPECT_TRUE(core::diffuseReflector(f));
+  EXPECT_LT(f.log_odds, 0.0f) << "to the mirror/glass features a bright surface off the peak looks like glass";
+  for (std::size_t j = 0; j < 3; ++j)
+  {
+    EXPECT_EQ(objects[j].type, core::ObjectType::mirror) << j;
+    EXPECT_TRUE(objects[j].intensity.diffuse_reflector) << j;
+    EXPECT_FALSE(objects[j].intensity.typed) << j;
+  }
+  EXPECT_EQ(objects[3].type, core::ObjectType::mirror);
+  EXPECT_FALSE(objects[3].intensity.diffuse_reflector) << "the geometry's mirror needs no rule";
+}
+
+TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABrightSurfaceNeedsReflectionsBehind)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  addShinyMetal(beams);
+  const core::Sweep sweep = sweepOf(beams);
+  core::ReflectiveObject dim = geometricGlass(0, 0, 220);
+  dim.evidence.typed_by_dim_phantoms = true;
+  std::vector<core::ReflectiveObject> objects{ geometricGlass(20, 141, 50), dim };
+  EXPECT_FALSE(core::diffuseReflectorMayOverrule(objects[0])) << "141 seen through > 2 x (20 + 50)";
+  EXPECT_TRUE(core::diffuseReflectorMayOverrule(geometricGlass(20, 140, 50)));
+  core::IntensityEvidence stage(config());
+  core::SweepLabels labels;
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  for (const core::ReflectiveObject& o : objects)
+  {
+    EXPECT_TRUE(core::diffuseReflector(o.intensity));
+    EXPECT_EQ(o.type, core::ObjectType::glass);
+    EXPECT_FALSE(o.intensity.diffuse_reflector);
+  }
+
+  // A strip 0.2 m wide around the same echoes (mixed pixels along a depth edge): no rule.
+  core::ReflectiveObject strip = geometricGlass(0, 0, 220);
+  strip.centre.y() = offPeak(0).y();
+  strip.width = 0.2f;
+  objects = { strip };
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  EXPECT_TRUE(core::diffuseReflector(objects[0].intensity)) << "its echoes are a reflector's";
+  EXPECT_FALSE(core::diffuseReflector(objects[0]));
+  EXPECT_EQ(objects[0].type, core::ObjectType::glass);
+
+  // Points seen through its inside without a surface echo in front (a pane, bright only at its frame): no rule.
+  core::ReflectiveObject framed_pane = geometricGlass(0, 0, 220);
+  framed_pane.evidence.surface_backed_share = 0.6f;
+  objects = { framed_pane };
+  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  EXPECT_TRUE(core::diffuseReflector(objects[0].intensity));
+  EXPECT_FALSE(core::diffuseReflector(objects[0]));
+  EXPECT_EQ(objects[0].type, core::ObjectType::glass);
+
+  // Under 85 % of the bright echoes with a reflection behind (a wall in the plane, a frame): no rule.
+  std::vector<std::pair<Echo, Echo>> framed;
+  addWalls(framed, 200);
+  addShinyMetal(framed, 25);
+  const core::Sweep framed_sweep = sweepOf(framed);
+  objects = { analysed(), geometricGlass(0, 0, 220) };
+  stage.process(framed_sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  EXPECT_NEAR(objects[0].intensity.bright_backed_share, 25.0f / 30.0f, 1e-6f);
+  EXPECT_FALSE(core::diffuseReflector(objects[0].intensity));
+  EXPECT_NE(objects[0].type, core::ObjectType::mirror);
+  EXPECT_EQ(objects[1].type, core::ObjectType::glass);
 }
 
 }  // namespace

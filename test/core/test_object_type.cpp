@@ -335,6 +335,25 @@ TEST(ObjectType, MergedEchoesJustBehindShinyMetalDoNotMakeItGlass)
   EXPECT_GT(pane.evidence.real_fraction, 0.2f);
 }
 
+TEST(ObjectType, TheShareOfPointsBehindWithASurfaceEchoInFrontLeavesMergedEchoesOut)
+{
+  // Every double echo through the inside has its surface echo on the plane; the single echoes
+  // 0.15 m behind are within the reach of merged echoes (0.2 of the 0.9 m separation) and do not
+  // count: shiny metal, seen over its whole face.
+  EXPECT_FLOAT_EQ(surfaceWithEchoesBehind(0.15f).evidence.surface_backed_share, 1.0f);
+  // 0.6 m behind they are points seen through without a surface echo in front, as behind glass
+  // (about 2100 single echoes beside about 4700 double echoes through the inside).
+  const float pane = surfaceWithEchoesBehind(0.6f).evidence.surface_backed_share;
+  EXPECT_GT(pane, 0.5f);
+  EXPECT_LT(pane, 0.8f);
+  // Nothing behind the inside: no share.
+  Scene empty;
+  empty.addRealWall(-1.0f, 1.5f);
+  core::ReflectiveObject object = objectAtTwoMetres();
+  empty.analyze(object);
+  EXPECT_TRUE(std::isnan(object.evidence.surface_backed_share));
+}
+
 TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)
 {
   // Only the wall behind the surface was seen: no point behind it can be told by itself.

@@ -52,6 +52,10 @@ struct TypeEvidence
   // among the phantoms and real points inside the rectangle (away from its border, where points
   // beside the surface are seen): what types it.
   float real_fraction = std::numeric_limits<float>::quiet_NaN();
+  // Of the points behind seen through the rectangle's inside (beyond the reach of merged echoes,
+  // object_type.cpp), the share whose beam also returned an echo on the plane (NaN: none). Shiny metal is seen at every incidence, so nearly all of
+  // them; glass returns a surface echo only near perpendicular incidence (intensity_evidence.h).
+  float surface_backed_share = std::numeric_limits<float>::quiet_NaN();
   // Mean squared distance between the sampled phantoms and what the sensor saw where they land [m^2].
   float landing_fitness = std::numeric_limits<float>::quiet_NaN();
   // The intensity of the sampled phantoms against what the surfaces they land on return when seen
@@ -108,8 +112,14 @@ struct IntensityFeatures
   float faint_share = std::numeric_limits<float>::quiet_NaN();
   float haze = std::numeric_limits<float>::quiet_NaN();
   float echo_ratio = std::numeric_limits<float>::quiet_NaN();
+  std::size_t bright_off_peak = 0;  // of the off-peak echoes, those lit like a wall
+  // Of those whose beam's near echo they are, the share with a far echo behind the plane.
+  float bright_backed_share = std::numeric_limits<float>::quiet_NaN();
   float log_odds = 0.0f;  // of mirror against glass, this sweep alone (0: no evidence)
   bool typed = false;     // the geometry left it unknown; the intensities typed it
+  // Lit like a wall off its specular peak, with a reflection behind: typed mirror (shiny metal)
+  // where the geometry said glass or nothing (intensity_evidence.h, diffuseReflector).
+  bool diffuse_reflector = false;
 };
 
 struct ReflectiveObject
