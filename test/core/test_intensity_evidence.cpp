@@ -81,6 +81,13 @@ core::SweepContext origin()
   return core::SweepContext();
 }
 
+// The stage with the default configuration over the objects of a sweep.
+void runStage(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& objects)
+{
+  core::SweepLabels labels;
+  core::IntensityEvidence(config()).process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+}
+
 TEST(IntensityEvidence, MirrorHazeOverTheWholeFaceTypesAnUnknownObjectMirror)
 {
   std::vector<std::pair<Echo, Echo>> beams;
@@ -104,9 +111,7 @@ TEST(IntensityEvidence, MirrorHazeOverTheWholeFaceTypesAnUnknownObjectMirror)
   EXPECT_LE(f.log_odds, core::kMaxLogOdds);
 
   std::vector<core::ReflectiveObject> objects{ object() };
-  core::IntensityEvidence stage(config());
-  core::SweepLabels labels;
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
   EXPECT_TRUE(objects[0].intensity.typed);
 }
@@ -129,9 +134,7 @@ TEST(IntensityEvidence, BrightFrameOffThePeakAndFaintReflectionsTypeAnUnknownObj
   }
   const core::Sweep sweep = sweepOf(beams);
   std::vector<core::ReflectiveObject> objects{ object(), object(core::ObjectType::mirror) };
-  core::IntensityEvidence stage(config());
-  core::SweepLabels labels;
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   const core::IntensityFeatures& f = objects[0].intensity;
   EXPECT_EQ(f.echoes, 30u);
   EXPECT_EQ(f.off_peak, 20u);
@@ -161,9 +164,7 @@ TEST(IntensityEvidence, TooFewEchoesOrNoIntensitiesSayNothing)
   }
   core::Sweep sweep = sweepOf(beams);
   std::vector<core::ReflectiveObject> objects{ object() };
-  core::IntensityEvidence stage(config());
-  core::SweepLabels labels;
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   EXPECT_EQ(objects[0].intensity.echoes, 4u);
   EXPECT_TRUE(std::isnan(objects[0].intensity.faint_share));
   EXPECT_FLOAT_EQ(objects[0].intensity.log_odds, 0.0f);
@@ -171,7 +172,7 @@ TEST(IntensityEvidence, TooFewEchoesOrNoIntensitiesSayNothing)
 
   sweep.has_intensity = false;
   objects = { object() };
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   EXPECT_EQ(objects[0].intensity.echoes, 0u);
   EXPECT_EQ(objects[0].type, core::ObjectType::unknown);
 }
@@ -334,9 +335,7 @@ TEST(IntensityEvidence, ShinyMetalIsAMirrorWhereTheGeometrySaidGlassOrNothing)
   // twice the rest; a mirror.
   std::vector<core::ReflectiveObject> objects{ analysed(), geometricGlass(0, 0, 220), geometricGlass(20, 130, 50),
                                                analysed(core::ObjectType::mirror) };
-  core::IntensityEvidence stage(config());
-  core::SweepLabels labels;
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   const core::IntensityFeatures& f = objects[0].intensity;
   EXPECT_EQ(f.off_peak, 30u);
   EXPECT_EQ(f.bright_off_peak, 30u);
@@ -364,9 +363,7 @@ TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABright
   std::vector<core::ReflectiveObject> objects{ geometricGlass(20, 141, 50), dim };
   EXPECT_FALSE(core::diffuseReflectorMayOverrule(objects[0])) << "141 seen through > 2 x (20 + 50)";
   EXPECT_TRUE(core::diffuseReflectorMayOverrule(geometricGlass(20, 140, 50)));
-  core::IntensityEvidence stage(config());
-  core::SweepLabels labels;
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   for (const core::ReflectiveObject& o : objects)
   {
     EXPECT_TRUE(core::diffuseReflector(o.intensity));
@@ -379,7 +376,7 @@ TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABright
   strip.centre.y() = offPeak(0).y();
   strip.width = 0.2f;
   objects = { strip };
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   EXPECT_TRUE(core::diffuseReflector(objects[0].intensity)) << "its echoes are a reflector's";
   EXPECT_FALSE(core::diffuseReflector(objects[0]));
   EXPECT_EQ(objects[0].type, core::ObjectType::glass);
@@ -388,7 +385,7 @@ TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABright
   core::ReflectiveObject framed_pane = geometricGlass(0, 0, 220);
   framed_pane.evidence.surface_backed_share = 0.6f;
   objects = { framed_pane };
-  stage.process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(sweep, objects);
   EXPECT_TRUE(core::diffuseReflector(objects[0].intensity));
   EXPECT_FALSE(core::diffuseReflector(objects[0]));
   EXPECT_EQ(objects[0].type, core::ObjectType::glass);
@@ -399,7 +396,7 @@ TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABright
   addShinyMetal(framed, 25);
   const core::Sweep framed_sweep = sweepOf(framed);
   objects = { analysed(), geometricGlass(0, 0, 220) };
-  stage.process(framed_sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  runStage(framed_sweep, objects);
   EXPECT_NEAR(objects[0].intensity.bright_backed_share, 25.0f / 30.0f, 1e-6f);
   EXPECT_FALSE(core::diffuseReflector(objects[0].intensity));
   EXPECT_NE(objects[0].type, core::ObjectType::mirror);
