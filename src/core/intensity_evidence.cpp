@@ -264,15 +264,19 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
   {
     ReflectiveObject& object = objects[i];
     object.intensity = intensityFeatures(sweep, origin, object, scale, config_, *block_boxes);
-    const bool open_to_intensity = object.type == ObjectType::unknown || diffuseReflectorMayOverrule(object);
-    if (!open_to_intensity || seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
+    const bool unknown = object.type == ObjectType::unknown;
+    const bool reflector = (unknown || diffuseReflectorMayOverrule(object)) && diffuseReflector(object);
+    const bool by_log_odds = !reflector && unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds;
+    // Only an object that a rule would type is looked at against the others' cones.
+    if (!(reflector || by_log_odds) ||
+        seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
       continue;
-    if (diffuseReflector(object))
+    if (reflector)
     {
       object.type = ObjectType::mirror;
       object.intensity.diffuse_reflector = true;
     }
-    else if (object.type == ObjectType::unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds)
+    else
     {
       object.type = object.intensity.log_odds > 0.0f ? ObjectType::mirror : ObjectType::glass;
       object.intensity.typed = true;

@@ -53,8 +53,9 @@ struct TypeEvidence
   // beside the surface are seen): what types it.
   float real_fraction = std::numeric_limits<float>::quiet_NaN();
   // Of the points behind seen through the rectangle's inside (beyond the reach of merged echoes,
-  // object_type.cpp), the share whose beam also returned an echo on the plane (NaN: none). Shiny metal is seen at every incidence, so nearly all of
-  // them; glass returns a surface echo only near perpendicular incidence (intensity_evidence.h).
+  // object_type.cpp), the share whose beam also returned an echo on the plane (NaN: none). Shiny
+  // metal is seen at every incidence, so nearly all of them; glass returns a surface echo only
+  // near perpendicular incidence (intensity_evidence.h).
   float surface_backed_share = std::numeric_limits<float>::quiet_NaN();
   // Mean squared distance between the sampled phantoms and what the sensor saw where they land [m^2].
   float landing_fitness = std::numeric_limits<float>::quiet_NaN();
