@@ -102,6 +102,13 @@ bool diffuseReflectorMayOverrule(const ReflectiveObject& object)
          e.transmitted_points <= kSeenThroughDominance * (e.phantom_points + e.undecided_points);
 }
 
+bool paneByItsEchoes(const IntensityFeatures& features)
+{
+  // NaN (too few echoes for a feature) compares false.
+  return features.off_peak >= kMinDiffuseReflectorEchoes && features.faint_share < kMaxPaneFaintShare &&
+         features.echo_ratio >= kMinPaneEchoRatio;
+}
+
 float FeatureModel::logLikelihoodRatio(float x) const
 {
   const float a = (x - mirror) / sigma;
@@ -266,15 +273,21 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
     object.intensity = intensityFeatures(sweep, origin, object, scale, config_, *block_boxes);
     const bool unknown = object.type == ObjectType::unknown;
     const bool reflector = (unknown || diffuseReflectorMayOverrule(object)) && diffuseReflector(object);
+    const bool pane = object.type == ObjectType::mirror && paneByItsEchoes(object.intensity);
     const bool by_log_odds = !reflector && unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds;
     // Only an object that a rule would type is looked at against the others' cones.
-    if (!(reflector || by_log_odds) ||
+    if (!(reflector || pane || by_log_odds) ||
         seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
       continue;
     if (reflector)
     {
       object.type = ObjectType::mirror;
       object.intensity.diffuse_reflector = true;
+    }
+    else if (pane)
+    {
+      object.type = ObjectType::glass;
+      object.intensity.pane_by_echoes = true;
     }
     else
     {

@@ -310,6 +310,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["intensity_bright_off_peak"] = static_cast<double>(intensity.bright_off_peak);
   d["intensity_bright_backed_share"] = static_cast<double>(intensity.bright_backed_share);
   d["intensity_diffuse_reflector"] = intensity.diffuse_reflector;
+  d["intensity_pane_by_echoes"] = intensity.pane_by_echoes;
   d["intensity_haze"] = static_cast<double>(intensity.haze);
   d["intensity_echo_ratio"] = static_cast<double>(intensity.echo_ratio);
   d["intensity_log_odds"] = static_cast<double>(intensity.log_odds);

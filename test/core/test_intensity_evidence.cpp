@@ -147,7 +147,7 @@ TEST(IntensityEvidence, BrightFrameOffThePeakAndFaintReflectionsTypeAnUnknownObj
   EXPECT_LT(f.log_odds, -config().type_log_odds);
   EXPECT_EQ(objects[0].type, core::ObjectType::glass);
   EXPECT_TRUE(objects[0].intensity.typed);
-  // The geometry's verdict stands: intensities type only what it left unknown.
+  // The geometry's verdict stands against the log-odds: they type only what it left unknown.
   EXPECT_EQ(objects[1].type, core::ObjectType::mirror);
   EXPECT_FALSE(objects[1].intensity.typed);
   EXPECT_FLOAT_EQ(objects[1].intensity.log_odds, f.log_odds);
@@ -401,6 +401,82 @@ TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABright
   EXPECT_FALSE(core::diffuseReflector(objects[0].intensity));
   EXPECT_NE(objects[0].type, core::ObjectType::mirror);
   EXPECT_EQ(objects[1].type, core::ObjectType::glass);
+}
+
+// Reflective glass as the geometry may take it for a mirror: off its peak only the frame and the
+// wall around it, lit like a wall, with nothing behind; near the perpendicular a faint echo on the
+// pane and, `ratio` times as bright, what is seen through it.
+void addReflectivePane(std::vector<std::pair<Echo, Echo>>& beams, float ratio)
+{
+  for (int i = 0; i < 20; ++i)
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    beams.push_back({ Echo{ p, 0.8f / p.squaredNorm() }, kNone });
+  }
+  for (int i = 0; i < 10; ++i)
+  {
+    const Eigen::Vector3f p(kPlaneX, 0.0f, -0.05f + 0.01f * i);
+    const float seen_through = 1.0f / (9.0f * p.squaredNorm());
+    beams.push_back({ Echo{ p, seen_through / ratio }, Echo{ p * 3.0f, seen_through } });
+  }
+}
+
+TEST(IntensityEvidence, APaneTheGeometryTookForAMirrorIsGlassByItsEchoes)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  addReflectivePane(beams, 50.0f);
+  const core::Sweep sweep = sweepOf(beams);
+  std::vector<core::ReflectiveObject> objects{ analysed(core::ObjectType::mirror) };
+  runStage(sweep, objects);
+  const core::IntensityFeatures& f = objects[0].intensity;
+  EXPECT_EQ(f.off_peak, 20u);
+  EXPECT_FLOAT_EQ(f.faint_share, 0.0f);
+  EXPECT_NEAR(f.echo_ratio, 50.0f, 0.01f);
+  EXPECT_TRUE(core::paneByItsEchoes(f));
+  EXPECT_EQ(objects[0].type, core::ObjectType::glass);
+  EXPECT_TRUE(objects[0].intensity.pane_by_echoes);
+  EXPECT_FALSE(objects[0].intensity.typed) << "a rule on the geometry's mirror, not the log-odds";
+
+  // Far echoes only ten times the near ones: the geometry's mirror stands.
+  std::vector<std::pair<Echo, Echo>> dimmer;
+  addWalls(dimmer, 200);
+  addReflectivePane(dimmer, 10.0f);
+  objects = { analysed(core::ObjectType::mirror) };
+  runStage(sweepOf(dimmer), objects);
+  EXPECT_FALSE(core::paneByItsEchoes(objects[0].intensity));
+  EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
+  EXPECT_FALSE(objects[0].intensity.pane_by_echoes);
+}
+
+TEST(IntensityEvidence, AMirrorsHazeOrShinyMetalsLitFaceKeepsTheGeometrysMirror)
+{
+  // A mirror: a faint haze off its peak, its phantoms 30 times as bright as the haze.
+  std::vector<std::pair<Echo, Echo>> mirror_beams;
+  addWalls(mirror_beams, 200);
+  for (int i = 0; i < 30; ++i)
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    const float haze = 0.02f * cosIncidence(p) / p.squaredNorm();
+    mirror_beams.push_back({ Echo{ p, haze }, Echo{ p * 2.0f, 30.0f * haze } });
+  }
+  std::vector<core::ReflectiveObject> objects{ analysed(core::ObjectType::mirror) };
+  runStage(sweepOf(mirror_beams), objects);
+  EXPECT_FLOAT_EQ(objects[0].intensity.faint_share, 1.0f);
+  EXPECT_GE(objects[0].intensity.echo_ratio, core::kMinPaneEchoRatio);
+  EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
+  EXPECT_FALSE(objects[0].intensity.pane_by_echoes);
+
+  // Shiny metal: lit like a wall off its peak, its reflections dimmer than that.
+  std::vector<std::pair<Echo, Echo>> metal_beams;
+  addWalls(metal_beams, 200);
+  addShinyMetal(metal_beams);
+  objects = { analysed(core::ObjectType::mirror) };
+  runStage(sweepOf(metal_beams), objects);
+  EXPECT_FLOAT_EQ(objects[0].intensity.faint_share, 0.0f);
+  EXPECT_LT(objects[0].intensity.echo_ratio, 1.0f);
+  EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
+  EXPECT_FALSE(objects[0].intensity.pane_by_echoes);
 }
 
 }  // namespace

@@ -121,6 +121,9 @@ struct IntensityFeatures
   // Lit like a wall off its specular peak, with a reflection behind: typed mirror (shiny metal)
   // where the geometry said glass or nothing (intensity_evidence.h, diffuseReflector).
   bool diffuse_reflector = false;
+  // No mirror's haze off its specular peak, and far echoes tens of times its near ones: typed
+  // glass where the geometry said mirror (intensity_evidence.h, paneByItsEchoes).
+  bool pane_by_echoes = false;
 };
 
 struct ReflectiveObject
