@@ -148,6 +148,16 @@ def filter_case(pipeline, sweep, mode, pose=None):
     return ground_truth, keyed_labelled, keyed_cleaned, result.objects
 
 
+def found_objects(pipeline, sweep, family):
+    """The sweep of a `family` sensor through `pipeline`: ({ground-truth object name: the detected
+    object matched to it}, the evaluator's counts of the sweep)."""
+    ground_truth, labelled, cleaned, objects = filter_case(pipeline, sweep, INPUT_MODES[family])
+    truth = ground_truth_objects(sweep)
+    matches, _ = metrics.match_objects(truth, objects)
+    found = {t['name']: objects[m['detected_id']] for t, m in zip(truth, matches) if m['matched']}
+    return found, metrics.evaluate_sweep(ground_truth, labelled, cleaned, objects, truth)['counts']
+
+
 def run_case(case, pipeline, physics=None):
     """Simulates and filters one case; the evaluator's result (with _raw) plus the case and timings."""
     started = time.perf_counter()

@@ -8,10 +8,9 @@ import pytest
 
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
 
-from ohm_mirror_detector3d import metrics  # noqa: E402
 from ohm_mirror_detector3d import scene as scenes  # noqa: E402
 from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
-from ohm_mirror_detector3d.simulate import SweepSimulator, ground_truth_objects  # noqa: E402
+from ohm_mirror_detector3d.simulate import SweepSimulator  # noqa: E402
 
 MIRROR, GLASS = 1, 2
 
@@ -25,13 +24,7 @@ def sweep_and_case():
 
 def run(sweep, case, **params):
     """{truth name: detected object} and the evaluator's counts of the sweep through a pipeline."""
-    ground_truth, labelled, cleaned, objects = ev.filter_case(core.Pipeline(**params), sweep,
-                                                              ev.INPUT_MODES[case.family])
-    truth = ground_truth_objects(sweep)
-    matches, _ = metrics.match_objects(truth, objects)
-    found = {t['name']: objects[m['detected_id']] for t, m in zip(truth, matches) if m['matched']}
-    result = metrics.evaluate_sweep(ground_truth, labelled, cleaned, objects, truth)
-    return found, result['counts']
+    return ev.found_objects(core.Pipeline(**params), sweep, case.family)
 
 
 def test_shiny_metal_the_geometry_takes_for_glass_is_a_mirror_by_its_diffuse_echoes(sweep_and_case):
