@@ -173,9 +173,15 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
   const float cos_off_peak = std::cos(kOffPeakDeg * static_cast<float>(M_PI) / 180.0f);
   std::vector<float> faint, ratios;
   std::size_t bright_backed = 0, bright_near = 0;
-  // behind: echo is the beam's near echo and its far echo lies behind the plane (else false;
-  // near: it is the near echo).
-  auto take = [&](const EchoCloud& echo, std::size_t beam, bool near, bool behind) {
+  // What an echo on the object is in its beam: the far echo, or the near one, with or without a
+  // far echo behind the plane.
+  enum class Role
+  {
+    far,
+    near,
+    near_backed,
+  };
+  auto take = [&](const EchoCloud& echo, std::size_t beam, Role role) {
     const float range = echo.ranges[beam];
     const float intensity = scale.signal(echo.intensities[beam], range);
     if (!(range > 0.0f) || !std::isfinite(intensity))
@@ -191,8 +197,8 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     if (lit >= kFaint)
     {
       ++out.bright_off_peak;
-      bright_near += near ? 1 : 0;
-      bright_backed += behind ? 1 : 0;
+      bright_near += role != Role::far ? 1 : 0;
+      bright_backed += role == Role::near_backed ? 1 : 0;
     }
   };
   auto visit = [&](std::size_t beam) {
@@ -204,9 +210,10 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     const bool near_on = on_object(near.points[beam]);
     const bool two = far.ranges[beam] - near.ranges[beam] > config.echo_threshold;
     if (near_on)
-      take(near, beam, true, two && object.signedDistance(far.points[beam]) < -config.plane_threshold);
+      take(near, beam,
+           two && object.signedDistance(far.points[beam]) < -config.plane_threshold ? Role::near_backed : Role::near);
     if (two && on_object(far.points[beam]))
-      take(far, beam, false, false);
+      take(far, beam, Role::far);
     if (near_on && two && near.intensities[beam] > 0.0f && far.intensities[beam] > 0.0f)
       ratios.push_back(scale.signal(far.intensities[beam], far.ranges[beam]) /
                        scale.signal(near.intensities[beam], near.ranges[beam]));
