@@ -59,7 +59,8 @@ float medianAbsoluteDeviation(std::vector<float>& values)
 }
 
 // Whether most of the object's surface echoes lie behind another object's plane, within `reach`
-// of its rectangle (IntensityEvidenceConfig::reach).
+// of its rectangle (IntensityEvidenceConfig::reach); only objects whose planes the object's centre
+// lies at least kMinDepthBehindAnother behind count.
 bool seenBehindAnother(const std::vector<ReflectiveObject>& objects, std::size_t index, const Sweep& sweep,
                        const Eigen::Vector3f& origin, float plane_threshold, float reach)
 {
@@ -68,7 +69,7 @@ bool seenBehindAnother(const std::vector<ReflectiveObject>& objects, std::size_t
     return false;
   std::vector<VisionCone> cones;
   for (std::size_t j = 0; j < objects.size(); ++j)
-    if (j != index)
+    if (j != index && objects[j].signedDistance(object.centre) < -kMinDepthBehindAnother)
       cones.emplace_back(objects[j], origin, plane_threshold, reach);
   std::size_t behind = 0;
   for (const PointRef& ref : object.surface_inliers)

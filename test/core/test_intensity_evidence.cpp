@@ -295,6 +295,38 @@ TEST(IntensityEvidence, AnObjectSeenBehindAnotherIsNotTypedByItsIntensities)
   }
 }
 
+TEST(IntensityEvidence, AFragmentJustOffTheObjectsPlaneDoesNotHideIt)
+{
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  addMirrorHaze(beams, false);
+  const core::Sweep sweep = sweepOf(beams);
+  std::vector<core::PointRef> haze_echoes;
+  for (std::size_t beam = 200; beam < 230; ++beam)
+    haze_echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam), 0 });
+  core::ReflectiveObject haze = object();
+  haze.surface_inliers = haze_echoes;
+
+  // A 10 x 10 cm patch 0.6 m beside the object's centre, its plane turned 10 deg from the object's:
+  // the object's echoes lie 0.17 m behind that plane, within the reach of its rectangle, but the
+  // object's centre only 0.10 m (under kMinDepthBehindAnother): the same surface, not one seen
+  // through the patch.
+  const float turn = 10.0f * static_cast<float>(M_PI) / 180.0f;
+  core::ReflectiveObject patch = object(core::ObjectType::glass);
+  patch.centre = Eigen::Vector3f(kPlaneX, -0.6f, 0.0f);
+  const Eigen::Vector3f normal(-std::cos(turn), -std::sin(turn), 0.0f);
+  patch.plane = Eigen::Vector4f(normal.x(), normal.y(), normal.z(), -normal.dot(patch.centre));
+  patch.width_axis = Eigen::Vector3f(-normal.y(), normal.x(), 0.0f);
+  patch.width = patch.height = 0.1f;
+  ASSERT_LT(patch.signedDistance(sweep.echoes[0].points[200]), -0.15f);
+  ASSERT_GT(patch.signedDistance(haze.centre), -core::kMinDepthBehindAnother);
+
+  std::vector<core::ReflectiveObject> objects{ haze, patch };
+  runStage(sweep, objects);
+  EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
+  EXPECT_TRUE(objects[0].intensity.typed);
+}
+
 // Shiny metal: off its peak lit like a wall (30 % of the reference over cos(incidence)), each echo with
 // its reflection behind the plane; `backed` of the 30 beams have it.
 void addShinyMetal(std::vector<std::pair<Echo, Echo>>& beams, int backed = 30)
