@@ -116,17 +116,23 @@ TEST(IntensityEvidence, MirrorHazeOverTheWholeFaceTypesAnUnknownObjectMirror)
   EXPECT_TRUE(objects[0].intensity.typed);
 }
 
+// A pane's frame off the specular peak: 20 echoes as bright as a wall, nothing behind them.
+void addFrame(std::vector<std::pair<Echo, Echo>>& beams)
+{
+  for (int i = 0; i < 20; ++i)
+  {
+    const Eigen::Vector3f p = offPeak(i);
+    beams.push_back({ Echo{ p, 0.8f / p.squaredNorm() }, kNone });
+  }
+}
+
 TEST(IntensityEvidence, BrightFrameOffThePeakAndFaintReflectionsTypeAnUnknownObjectGlass)
 {
   std::vector<std::pair<Echo, Echo>> beams;
   addWalls(beams, 200);
   // Off the peak only the frame, as bright as a wall; near the perpendicular the saturated peak with what
   // is seen through behind it.
-  for (int i = 0; i < 20; ++i)
-  {
-    const Eigen::Vector3f p = offPeak(i);
-    beams.push_back({ Echo{ p, 0.8f / p.squaredNorm() }, kNone });
-  }
+  addFrame(beams);
   for (int i = 0; i < 10; ++i)
   {
     const Eigen::Vector3f p(kPlaneX, 0.0f, -0.05f + 0.01f * i);
@@ -216,8 +222,9 @@ void addRoom(std::vector<std::pair<Echo, Echo>>& beams, int count, bool range_co
   }
 }
 
-// A mirror's haze off the peak with a phantom behind each echo, as a raw signal or compensated.
-void addMirrorHaze(std::vector<std::pair<Echo, Echo>>& beams, bool range_compensated)
+// A mirror's haze off the peak with a phantom behind each echo (phantom_gain times as bright), as a
+// raw signal or compensated.
+void addMirrorHaze(std::vector<std::pair<Echo, Echo>>& beams, bool range_compensated, float phantom_gain = 4.0f)
 {
   for (int i = 0; i < 30; ++i)
   {
@@ -226,7 +233,7 @@ void addMirrorHaze(std::vector<std::pair<Echo, Echo>>& beams, bool range_compens
     const Eigen::Vector3f phantom = p * 2.0f;
     const float scale_near = range_compensated ? p.squaredNorm() : 1.0f;
     const float scale_far = range_compensated ? phantom.squaredNorm() : 1.0f;
-    beams.push_back({ Echo{ p, haze * scale_near }, Echo{ phantom, 4.0f * haze * scale_far } });
+    beams.push_back({ Echo{ p, haze * scale_near }, Echo{ phantom, phantom_gain * haze * scale_far } });
   }
 }
 
@@ -255,15 +262,27 @@ TEST(IntensityEvidence, ARangeCompensatedReflectivityIsToldFromTheSweepAndGivesT
   EXPECT_NEAR(compensated.log_odds, raw.log_odds, 1e-3f);
 }
 
-TEST(IntensityEvidence, AnObjectSeenBehindAnotherIsNotTypedByItsIntensities)
+// 200 walls and a mirror's haze on the object (beams 200-229).
+core::Sweep hazeSweep()
 {
   std::vector<std::pair<Echo, Echo>> beams;
   addWalls(beams, 200);
   addMirrorHaze(beams, false);
-  const core::Sweep sweep = sweepOf(beams);
-  std::vector<core::PointRef> haze_echoes;
+  return sweepOf(beams);
+}
+
+// The object of hazeSweep, its haze echoes as its surface inliers.
+core::ReflectiveObject hazeObject()
+{
+  core::ReflectiveObject o = object();
   for (std::size_t beam = 200; beam < 230; ++beam)
-    haze_echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam), 0 });
+    o.surface_inliers.push_back(core::PointRef{ static_cast<std::uint32_t>(beam), 0 });
+  return o;
+}
+
+TEST(IntensityEvidence, AnObjectSeenBehindAnotherIsNotTypedByItsIntensities)
+{
+  const core::Sweep sweep = hazeSweep();
 
   // A pane 1 m in front of the object, 0.2 m wide, beside the object's echoes: they lie behind its
   // plane 0.2 m and more beside its rectangle (seen through it, when the pane is larger than its patch).
@@ -271,8 +290,7 @@ TEST(IntensityEvidence, AnObjectSeenBehindAnotherIsNotTypedByItsIntensities)
   pane.plane = Eigen::Vector4f(-1.0f, 0.0f, 0.0f, 1.0f);
   pane.centre = Eigen::Vector3f(1.0f, -0.2f, 0.0f);
   pane.width = 0.2f;
-  core::ReflectiveObject behind = object();
-  behind.surface_inliers = haze_echoes;
+  const core::ReflectiveObject behind = hazeObject();
 
   core::IntensityEvidenceConfig c = config();
   core::SweepLabels labels;
@@ -297,15 +315,8 @@ TEST(IntensityEvidence, AnObjectSeenBehindAnotherIsNotTypedByItsIntensities)
 
 TEST(IntensityEvidence, AFragmentJustOffTheObjectsPlaneDoesNotHideIt)
 {
-  std::vector<std::pair<Echo, Echo>> beams;
-  addWalls(beams, 200);
-  addMirrorHaze(beams, false);
-  const core::Sweep sweep = sweepOf(beams);
-  std::vector<core::PointRef> haze_echoes;
-  for (std::size_t beam = 200; beam < 230; ++beam)
-    haze_echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam), 0 });
-  core::ReflectiveObject haze = object();
-  haze.surface_inliers = haze_echoes;
+  const core::Sweep sweep = hazeSweep();
+  const core::ReflectiveObject haze = hazeObject();
 
   // A 10 x 10 cm patch 0.6 m beside the object's centre, its plane turned 10 deg from the object's:
   // the object's echoes lie 0.17 m behind that plane, within the reach of its rectangle, but the
@@ -440,11 +451,7 @@ TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABright
 // pane and, `ratio` times as bright, what is seen through it.
 void addReflectivePane(std::vector<std::pair<Echo, Echo>>& beams, float ratio)
 {
-  for (int i = 0; i < 20; ++i)
-  {
-    const Eigen::Vector3f p = offPeak(i);
-    beams.push_back({ Echo{ p, 0.8f / p.squaredNorm() }, kNone });
-  }
+  addFrame(beams);
   for (int i = 0; i < 10; ++i)
   {
     const Eigen::Vector3f p(kPlaneX, 0.0f, -0.05f + 0.01f * i);
@@ -486,12 +493,7 @@ TEST(IntensityEvidence, AMirrorsHazeOrShinyMetalsLitFaceKeepsTheGeometrysMirror)
   // A mirror: a faint haze off its peak, its phantoms 30 times as bright as the haze.
   std::vector<std::pair<Echo, Echo>> mirror_beams;
   addWalls(mirror_beams, 200);
-  for (int i = 0; i < 30; ++i)
-  {
-    const Eigen::Vector3f p = offPeak(i);
-    const float haze = 0.02f * cosIncidence(p) / p.squaredNorm();
-    mirror_beams.push_back({ Echo{ p, haze }, Echo{ p * 2.0f, 30.0f * haze } });
-  }
+  addMirrorHaze(mirror_beams, false, 30.0f);
   std::vector<core::ReflectiveObject> objects{ analysed(core::ObjectType::mirror) };
   runStage(sweepOf(mirror_beams), objects);
   EXPECT_FLOAT_EQ(objects[0].intensity.faint_share, 1.0f);
