@@ -307,7 +307,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["intensity_echoes"] = intensity.echoes;
   d["intensity_off_peak"] = intensity.off_peak;
   d["intensity_faint_share"] = static_cast<double>(intensity.faint_share);
-  d["intensity_bright_off_peak"] = static_cast<double>(intensity.bright_off_peak);
+  d["intensity_bright_off_peak"] = intensity.bright_off_peak;
   d["intensity_bright_backed_share"] = static_cast<double>(intensity.bright_backed_share);
   d["intensity_diffuse_reflector"] = intensity.diffuse_reflector;
   d["intensity_pane_by_echoes"] = intensity.pane_by_echoes;
