@@ -545,6 +545,39 @@ TEST(ConeLabelling, WhereConesOverlapTheNearerSurfaceWins)
   }
 }
 
+TEST(ConeLabelling, AMirrorSeenThroughAPaneTakesItsSurfaceAndItsPhantoms)
+{
+  // A pane at 2 m, a mirror 1 m behind it: on the mirror's surface and behind it, the points are
+  // the mirror's, in either object order (the pane let the beam through, the mirror turned it).
+  std::vector<core::ReflectiveObject> objects{ wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass, 0),
+                                               wallObject(3.0f, 1.0f, 1.0f, ObjectType::mirror, 1) };
+  const core::Sweep sweep = test::makeSweep({ { { 2.0f, 0.0f, 0.0f }, { 3.0f, 0.0f, 0.0f } },
+                                              { { 2.5f, 0.1f, 0.0f }, { 4.0f, 0.4f, 0.3f } } });
+  for (int order = 0; order < 2; ++order)
+  {
+    const Labelled out = label(sweep, objects);
+    const auto typeOf = [&](std::int32_t j) { return objects[static_cast<std::size_t>(j)].type; };
+    EXPECT_EQ(out.labels.echoes[0][0], Label::transparentSurface);
+    EXPECT_EQ(out.labels.echoes[1][0], Label::reflectiveSurface);
+    EXPECT_EQ(typeOf(out.assignment.echoes[1][0]), ObjectType::mirror);
+    // Between the two planes: seen through the pane.
+    EXPECT_EQ(out.labels.echoes[0][1], Label::behindTransparent);
+    EXPECT_EQ(out.labels.echoes[1][1], Label::behindReflective);
+    EXPECT_EQ(typeOf(out.assignment.echoes[1][1]), ObjectType::mirror);
+    std::swap(objects[0], objects[1]);
+  }
+  // A mirror only a few centimetres behind the pane's plane is the same wall, and a fragment
+  // narrower than 20 cm is no mirror seen through it: the nearer surface wins.
+  for (const core::ReflectiveObject& mirror : { wallObject(2.1f, 1.0f, 1.0f, ObjectType::mirror, 1),
+                                                wallObject(3.0f, 0.15f, 1.0f, ObjectType::mirror, 1) })
+  {
+    objects = { wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass, 0), mirror };
+    const Labelled out = label(sweep, objects);
+    EXPECT_EQ(out.labels.echoes[1][1], Label::behindTransparent);
+    EXPECT_EQ(out.assignment.echoes[1][1], 0);
+  }
+}
+
 // A pane at x = distance grown (glass_growth.h) to width x height from a patch of
 // patch x patch around its centre.
 core::ReflectiveObject grownPane(float distance, float width, float height, float patch)
