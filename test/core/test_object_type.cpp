@@ -363,6 +363,38 @@ TEST(ObjectType, WithNothingSeenInFrontTheTypeStaysUnknown)
   EXPECT_GT(object.evidence.undecided_points, 100u);
 }
 
+// Behind the surface at x = 2 the reflection (at x = 5) of a wall at x = -1 behind the sensor,
+// which a box 5 cm behind the sensor hides from it except through a small opening at its corner:
+// the surface's phantoms land where the sensor saw the box in front, occluded, but their light's
+// path from the surface to the wall passes beside the box. With `seen_through`, a wall 1.5 m
+// behind the surface is seen through it where y < -0.6 instead of the reflection.
+core::Sweep phantomsHiddenByABox(bool seen_through)
+{
+  const auto box = [](const Eigen::Vector3f& x) {
+    const bool opening = x.y() > 0.04f && x.z() > 0.04f;
+    return std::fabs(x.y()) <= 0.05f && std::fabs(x.z()) <= 0.05f && !opening;
+  };
+  std::vector<test::Wall> walls{ { 0, -0.05f, box }, { 0, -1.0f, test::everywhere } };
+  if (seen_through)
+    walls.push_back({ 0, 3.5f, [](const Eigen::Vector3f& x) { return x.y() < -0.6f; } });
+  walls.push_back({ 0, 5.0f, test::everywhere });
+  return test::rangeImage(walls);
+}
+
+TEST(ObjectType, AMirrorWhosePhantomsABoxHidesFromTheSensorIsNoGlass)
+{
+  // A few phantoms land where the sensor saw the wall, none is seen through: the occluded ones
+  // are no real points, and too few are decided to type it.
+  core::ReflectiveObject object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(phantomsHiddenByABox(false), object), ObjectType::unknown);
+  EXPECT_GT(object.evidence.undecided_points, 300u);
+  EXPECT_GT(object.evidence.phantom_points, object.evidence.transmitted_points);
+  // With a wall seen through it, it is glass.
+  object = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(phantomsHiddenByABox(true), object), ObjectType::glass);
+  EXPECT_GT(object.evidence.transmitted_points, 100u);
+}
+
 // A corridor along x (floor and ceiling at z = -+0.8, side walls at y = -+1.2, no ends): every
 // surface in it is perpendicular to a surface across it at x = 2, which maps it onto itself.
 std::vector<test::Wall> corridor()
