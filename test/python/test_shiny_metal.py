@@ -12,7 +12,7 @@ from ohm_mirror_detector3d import scene as scenes  # noqa: E402
 from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
 from ohm_mirror_detector3d.simulate import SweepSimulator  # noqa: E402
 
-MIRROR, GLASS = 1, 2
+MIRROR = 1
 
 
 @pytest.fixture(scope='module')
@@ -41,8 +41,9 @@ def test_shiny_metal_the_geometry_takes_for_glass_is_a_mirror_by_its_diffuse_ech
     # The mirror is the geometry's: the rule is not what types it.
     assert found['mirror_0']['type'] == MIRROR and not found['mirror_0']['intensity_diffuse_reflector']
 
-    # Without the intensities the geometry alone says glass, and the panel's reflections stay.
+    # Without the intensities the geometry alone cannot tell (its reflections land on the hidden
+    # faces of what stands in front, occluded), and the panel's reflections stay.
     off, counts_off = run(sweep, case, intensity_evidence=0)
-    assert off['metal_0']['type'] == GLASS
+    assert off['metal_0']['type'] != MIRROR
     assert counts['double_echo_phantoms_wrong_place'] + 100 < counts_off['double_echo_phantoms_wrong_place']
     assert counts['real_displaced'] <= counts_off['real_displaced']

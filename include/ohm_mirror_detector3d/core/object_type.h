@@ -47,10 +47,10 @@ public:
   //   multiplies that by the distance behind), and the sample tested again;
   // - unknown when fewer than icp_min_points of the points inside its rectangle (away from its
   //   border, where points beside the surface are seen through the grown cone) are phantoms or
-  //   real (transmitted, occluded ones whose phantom light would have pierced a wall the sensor
-  //   saw among them; the other occluded ones only when too few are transmitted or phantoms and
-  //   the transmitted are at least as many as the phantoms: a mirror's phantoms hidden from the
-  //   sensor by furniture are occluded too): nothing to tell (a mirror facing open space);
+  //   real (transmitted, or, only when too few are transmitted or phantoms and the transmitted
+  //   are at least as many as the phantoms, occluded: their reflection lies behind what the
+  //   sensor saw there; a mirror's phantoms hidden from the sensor by furniture are occluded
+  //   too): nothing to tell (a mirror facing open space);
   // - glass when a clear share of those is real: the surface lets the sensor through
   //   (reflections in it are its phantoms; a pane at an oblique angle has many);
   // - mirror otherwise, if its phantoms land within icp_fitness_threshold (mean squared) of what
