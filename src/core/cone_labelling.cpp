@@ -208,7 +208,9 @@ Label behindLabel(const ReflectiveObject& object, ReflectionOutcome outcome)
 // surface takes the point as everywhere else [m]. Measured on random scene 16005 of the 128-ring
 // lidar (a mirror 0.7 m behind a glass door): double-echo phantoms at a wrong place 13684 ->
 // 11143, the mirror's surface echoes labelled behind the door before; on random scenes
-// 16000-16024 and 17000-17024 no other sweep of any family changed by more than 45 points.
+// 16000-16024 and 17000-17024 no other sweep of any family changed by more than 45 points. Its
+// cost (README, Stop 43): a pane's phantom plane that the phantom planes stage missed, typed
+// mirror, takes the points behind it (make evaluate's random_29 and random_13).
 constexpr float kMinDepthSeenThrough = 0.25f;
 // And only a mirror at least this wide and high [m]: behind a pane the echoes of what is seen
 // through it make small planar fragments, some typed mirror (random scenes 17011 and 17018 of the

@@ -390,7 +390,6 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
     for (std::size_t s = 0; s < samples; ++s)
     {
       b.tests[s] = evidence.test(object.plane, b.sample[s], object.landing_tolerance);
-
       // Seen through, but within kMergedEchoReach of the plane: as likely one echo of the
       // surface merged with its reflection off something just in front of it, which proves
       // nothing seen through.

@@ -1,4 +1,5 @@
-"""Shiny metal that the geometry of its points behind takes for glass is a mirror by its echoes:
+"""Shiny metal that the geometry of its points behind cannot type (stop 42: took for glass) is a
+mirror by its echoes:
 lit like a wall off its specular peak, each echo with a reflection behind it
 (intensity_evidence.h: diffuseReflector). Random scene 6013 of the 64-ring lidar: a 102 x 105 cm
 metal panel whose reflections land on the hidden faces of what stands in front of it or beside
