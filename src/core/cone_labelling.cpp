@@ -496,12 +496,12 @@ ConeClaim claimOf(const Eigen::Vector3f& p, const std::vector<std::size_t>& reac
   // A mirror seen through a pane (its plane clearly further along the ray than the pane's): the
   // pane let the beam through, the mirror turned it; the point is the mirror's (on its surface,
   // or its phantom), not a point seen through the pane.
-  const bool mirror_seen_through = nearest_mirror != ObjectAssignment::kNoObject &&
-                                   object(claim.object).type == ObjectType::glass &&
-                                   mirror_hit.plane_range > claim.hit.plane_range + kMinDepthSeenThrough &&
-                                   std::min(object(nearest_mirror).width, object(nearest_mirror).height) >=
-                                       kMinSeenThroughMirrorSide;
-  if ((claim.beyond_patch || mirror_seen_through) && nearest_mirror != ObjectAssignment::kNoObject)
+  const auto mirrorSeenThrough = [&]() {
+    return object(claim.object).type == ObjectType::glass &&
+           mirror_hit.plane_range > claim.hit.plane_range + kMinDepthSeenThrough &&
+           std::min(object(nearest_mirror).width, object(nearest_mirror).height) >= kMinSeenThroughMirrorSide;
+  };
+  if (nearest_mirror != ObjectAssignment::kNoObject && (claim.beyond_patch || mirrorSeenThrough()))
   {
     claim.object = nearest_mirror;
     claim.hit = mirror_hit;
