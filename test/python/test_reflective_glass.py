@@ -8,24 +8,20 @@ import pytest
 
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
 
-from ohm_mirror_detector3d import scene as scenes  # noqa: E402
 from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
-from ohm_mirror_detector3d.simulate import SweepSimulator  # noqa: E402
 
 MIRROR, GLASS = 1, 2
+FAMILY = 'velodyne_hdl32e'
 PANES = ('partition_pane_3', 'partition_pane_4')
 
 
 @pytest.fixture(scope='module')
-def sweep_and_family():
-    case = ev.cases(['velodyne_hdl32e'], 1, 13016, named=False)[0]
-    sweep = SweepSimulator(scenes.get(case.scene), ev.scanner_of(case)).sweep(seed=case.seed)
-    return sweep, case.family
+def sweep(evaluation_sweep):
+    return evaluation_sweep(FAMILY, 'random_13016')
 
 
-def test_glass_the_geometry_takes_for_a_mirror_is_glass_by_its_echoes(sweep_and_family):
-    sweep, family = sweep_and_family
-    found, counts = ev.found_objects(core.Pipeline(), sweep, family)
+def test_glass_the_geometry_takes_for_a_mirror_is_glass_by_its_echoes(sweep):
+    found, counts = ev.found_objects(core.Pipeline(), sweep, FAMILY)
     for name in PANES:
         pane = found[name]
         assert pane['type'] == GLASS, name
@@ -40,7 +36,7 @@ def test_glass_the_geometry_takes_for_a_mirror_is_glass_by_its_echoes(sweep_and_
 
     # Without the intensities the geometry alone says mirror, and what is seen through the two
     # panes is back-projected as their reflections.
-    off, counts_off = ev.found_objects(core.Pipeline(intensity_evidence=0), sweep, family)
+    off, counts_off = ev.found_objects(core.Pipeline(intensity_evidence=0), sweep, FAMILY)
     assert all(off[name]['type'] == MIRROR for name in PANES)
     assert counts['real_displaced'] + 1000 < counts_off['real_displaced']
     assert counts['double_echo_phantoms_wrong_place'] <= counts_off['double_echo_phantoms_wrong_place']

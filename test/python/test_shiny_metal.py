@@ -9,28 +9,24 @@ import pytest
 
 core = pytest.importorskip('ohm_mirror_detector3d.core', reason='the bindings are not built')
 
-from ohm_mirror_detector3d import scene as scenes  # noqa: E402
 from ohm_mirror_detector3d import scene_evaluation as ev  # noqa: E402
-from ohm_mirror_detector3d.simulate import SweepSimulator  # noqa: E402
 
 MIRROR = 1
+FAMILY = 'hesai_qt64'
 
 
 @pytest.fixture(scope='module')
-def sweep_and_case():
-    case = ev.cases(['hesai_qt64'], 1, 6013, named=False)[0]
-    sweep = SweepSimulator(scenes.get(case.scene), ev.scanner_of(case)).sweep(seed=case.seed)
-    return sweep, case
+def sweep(evaluation_sweep):
+    return evaluation_sweep(FAMILY, 'random_6013')
 
 
-def run(sweep, case, **params):
+def run(sweep, **params):
     """{truth name: detected object} and the evaluator's counts of the sweep through a pipeline."""
-    return ev.found_objects(core.Pipeline(**params), sweep, case.family)
+    return ev.found_objects(core.Pipeline(**params), sweep, FAMILY)
 
 
-def test_shiny_metal_the_geometry_takes_for_glass_is_a_mirror_by_its_diffuse_echoes(sweep_and_case):
-    sweep, case = sweep_and_case
-    found, counts = run(sweep, case)
+def test_shiny_metal_the_geometry_takes_for_glass_is_a_mirror_by_its_diffuse_echoes(sweep):
+    found, counts = run(sweep)
     metal = found['metal_0']
     assert metal['type'] == MIRROR
     assert metal['intensity_diffuse_reflector'] and not metal['intensity_typed']
@@ -44,7 +40,7 @@ def test_shiny_metal_the_geometry_takes_for_glass_is_a_mirror_by_its_diffuse_ech
 
     # Without the intensities the geometry alone cannot tell (its reflections land on the hidden
     # faces of what stands in front, occluded), and the panel's reflections stay.
-    off, counts_off = run(sweep, case, intensity_evidence=0)
+    off, counts_off = run(sweep, intensity_evidence=0)
     assert off['metal_0']['type'] != MIRROR
     assert counts['double_echo_phantoms_wrong_place'] + 100 < counts_off['double_echo_phantoms_wrong_place']
     assert counts['real_displaced'] <= counts_off['real_displaced']
