@@ -30,6 +30,10 @@ constexpr float kMergedEchoBrightnessShare = 0.25f;
 // beam (beyond the range noise of a phantom that is no merged echo).
 constexpr float kMinMergedShare = 0.25f;
 
+// The most steps of the landing tolerance a merged reflection is searched in: the echo separation
+// (0.9 m) over the smallest tolerance of a plausible sensor (a few centimetres) is some tens.
+constexpr int kMaxMergeSteps = 200;
+
 }  // namespace
 
 bool faintAsMergedReflection(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
@@ -61,11 +65,14 @@ struct MergeReach
     const float range = ray.norm();
     const float behind = range - (object.rayCrossing(origin, p) - origin).norm();
     reach = separation - behind;
-    usable = separation > 0.0f && range > 0.0f && reach > 0.0f;
+    // A point in front of the plane holds no reflection in it; and the search below steps by the
+    // landing tolerance, which must be positive (with a per_behind share, a point far in front of
+    // the plane made it negative, and the search never ended).
+    step = object.landing_tolerance.at(range, behind);
+    usable = separation > 0.0f && range > 0.0f && behind >= 0.0f && reach > 0.0f && step > 0.0f;
     if (!usable)
       return;
     along = ray / range;
-    step = object.landing_tolerance.at(range, behind);
     longest = reach + 0.5f * step;
   }
 };
@@ -138,8 +145,9 @@ Eigen::Vector3f mergedReflection(const ReflectionEvidence& evidence, const Refle
   const MergeReach reach(evidence, object, p);
   if (!reach.usable)
     return nowhere;
-  for (float shift = reach.reach - reach.step * std::floor(reach.reach / reach.step); shift <= reach.reach + 1e-4f;
-       shift += reach.step)
+  // Counted, so that a step too small to change the shift cannot stall the search.
+  float shift = reach.reach - reach.step * std::floor(reach.reach / reach.step);
+  for (int steps = 0; steps <= kMaxMergeSteps && shift <= reach.reach + 1e-4f; ++steps, shift += reach.step)
   {
     if (!(shift > 0.0f))
       continue;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -8,6 +9,7 @@
 
 #include "ohm_mirror_detector3d/core/cleaned_output.h"
 #include "ohm_mirror_detector3d/core/cone_labelling.h"
+#include "ohm_mirror_detector3d/core/merged_echoes.h"
 #include "ohm_mirror_detector3d/core/phantom_planes.h"
 #include "ohm_mirror_detector3d/core/reflection_chains.h"
 #include "ohm_mirror_detector3d/core/stage_configs.h"
@@ -887,6 +889,23 @@ TEST(ConeLabelling, AnEchoOfThePaneMergedWithAReflectionIsBackProjectedToWhatItS
     }
     EXPECT_GE(near, scene.real.size() * 9 / 10) << near << " of " << scene.real.size() << ", short by " << shortfall;
   }
+}
+
+TEST(MergedEchoes, APointInFrontOfThePlaneHoldsNoMergedReflection)
+{
+  // A merged echo lies behind the pane. Asked about a point 2.4 m in front of it, with a landing
+  // tolerance that grows with the depth behind the plane, the search for the reflection stepped
+  // by a negative tolerance and never ended; now there is none to find.
+  const MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 20.0f);
+  core::SweepLabels labels;
+  labels.reset(scene.sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(scene.sweep, labels, Eigen::Vector3f::Zero());
+  ASSERT_GT(evidence.echoSeparation(), 0.0f);
+  core::ReflectiveObject pane = wallObject(2.0f, 3.0f, 1.0f, ObjectType::glass);
+  pane.landing_tolerance.per_behind = 0.05f;
+  EXPECT_FALSE(core::mergedReflection(evidence, pane, Eigen::Vector3f(0.2f, 0.18f, 0.0f)).allFinite());
+  EXPECT_FALSE(core::mergedReflection(evidence, pane, Eigen::Vector3f(1.5f, 0.9f, 0.0f)).allFinite());
 }
 
 TEST(ConeLabelling, APointSeenThroughAPaneAsBrightAsTheRestStaysWhereItWasMeasured)
