@@ -998,5 +998,59 @@ TEST(ConeLabelling, APlaneOfMergedEchoesBehindAPaneIsItsPhantomPlaneAndBackProje
   EXPECT_GE(near, scene.real.size() * 9 / 10) << near << " of " << scene.real.size();
 }
 
+TEST(ConeLabelling, FaintEchoesJustBehindAPaneAreItsPhantomPlaneByTheirBrightness)
+{
+  // Short of the pillar's reflection by 0.3 m, the merged echoes lie on a plane 0.2 m behind the
+  // pane, nearer than phantom_planes' min_depth (0.3 m): reflected across a plane they nearly lie
+  // on they land next to themselves, and moved along their beams they need not land either (the
+  // shortfall is a third of the echo separation). Faint against what the pane lets through, they
+  // are its reflections all the same, and the object fitted to them is its phantom plane.
+  const MergedEchoes scene = mergedEchoesBehindAPane(0.3f, 20.0f);
+  ASSERT_GT(scene.real.size(), 20u);
+  core::ReflectiveObject pane = wallObject(2.0f, 0.6f, 1.0f, ObjectType::glass, 0);
+  pane.evidence.transmitted_brightness = 900.0f;
+  for (const auto& beam_and_real : scene.real)
+    pane.surface_inliers.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 1 });
+  std::vector<core::PointRef> echoes;
+  float depth = 0.0f;
+  for (const auto& beam_and_real : scene.real)
+  {
+    echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 0 });
+    depth = std::max(depth, scene.sweep.echoes[0].points[beam_and_real.first].x() - 2.0f);
+  }
+  const core::PhantomPlaneConfig config = core::stageConfigs(core::Params()).phantom_planes;
+  ASSERT_LT(depth, config.min_depth);
+  ASSERT_GT(depth, core::PhantomPlanes::kMinFaintDepth + 0.05f);
+  core::ReflectiveObject merged = wallObject(2.0f + depth, 1.0f, 1.0f, ObjectType::mirror, 1);
+  merged.surface_inliers = echoes;
+  core::SweepLabels labels;
+  labels.reset(scene.sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(scene.sweep, labels, Eigen::Vector3f::Zero());
+  core::PhantomPlanes stage(config);
+  const core::PhantomPlanes::Shares shares = stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, pane);
+  EXPECT_GE(shares.phantom, 0.9f);
+  EXPECT_LT(shares.landed, config.min_share);
+  std::vector<core::ReflectiveObject> objects{ pane, merged };
+  stage.process(scene.sweep, core::SweepContext(), evidence, labels, objects);
+  ASSERT_EQ(objects.size(), 1u);
+  EXPECT_EQ(objects[0].phantom_planes.size(), 1u);
+
+  // As bright as what is seen through the pane: something real just behind it.
+  const MergedEchoes bright = mergedEchoesBehindAPane(0.3f, 900.0f);
+  core::ReflectionEvidence bright_evidence;
+  bright_evidence.build(bright.sweep, labels, Eigen::Vector3f::Zero());
+  EXPECT_LT(stage.shares(bright.sweep, Eigen::Vector3f::Zero(), bright_evidence, merged, pane).phantom, config.min_share);
+  // Behind an object not typed glass brightness says nothing: nothing is seen through a mirror.
+  core::ReflectiveObject mirror = pane;
+  mirror.type = ObjectType::mirror;
+  EXPECT_LT(stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, mirror).phantom, config.min_share);
+  // Far more echoes than the pane's: a pane's own surface echoes are faint too, and its larger
+  // part just behind a speck of it is no reflection.
+  core::ReflectiveObject speck = pane;
+  speck.surface_inliers.resize(scene.real.size() / 5);
+  EXPECT_LT(stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, speck).phantom, config.min_share);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

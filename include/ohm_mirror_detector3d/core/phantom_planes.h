@@ -26,6 +26,11 @@
 // just behind the side the sensor does see (occluded, not on it), and their beams' far echoes lie
 // further behind the pane, transmitted. Those near echoes count as the pane's phantoms too
 // (PhantomPlaneConfig::max_hidden_depth).
+//
+// Just behind a pane (nearer than min_depth) landing proves nothing: reflected across a plane it
+// nearly lies on, an echo lands next to itself. There an echo counts as the pane's reflection by
+// its brightness: fainter than a quarter of what the pane lets through, as a merged echo is
+// (merged_echoes.h). Pairs shown that way are assigned after the pairs that geometry shows.
 #pragma once
 
 #include <cstddef>
@@ -44,7 +49,8 @@ struct PhantomPlaneConfig
   // of another object for it to be one.
   float min_share = 0.5f;
   // A surface echo nearer than this behind the other object's plane is not tested [m]: reflected
-  // across a plane it (nearly) lies on, any point lands on itself.
+  // across a plane it (nearly) lies on, any point lands on itself (behind a pane, a faint one
+  // counts by its brightness: kMinFaintDepth).
   float min_depth = 0.3f;
   // An object with more than this many times the other's surface echoes is not its phantom
   // plane: a pane's or a mirror's phantom planes come with about as many near echoes as its
@@ -74,22 +80,30 @@ public:
   const char* name() const override { return "phantom_planes"; }
   // Tests every object's surface echoes (an even sample of at most kSampledEchoes) against every
   // other object's plane (shares); the pair with the largest share at or above min_share is taken
-  // first, into the other's phantom_planes or seen_through_surfaces. An object that took another
-  // in is kept (it is real), and an object that was taken in takes none. The remaining objects are
-  // renumbered by their index.
+  // first (the pairs shown by brightness alone after the rest), into the other's phantom_planes or
+  // seen_through_surfaces. An object that took another in is kept (it is real), and an object that
+  // was taken in takes none. The remaining objects are renumbered by their index.
   void process(const Sweep& sweep, const SweepContext& context, const ReflectionEvidence& evidence,
                SweepLabels& labels, std::vector<ReflectiveObject>& objects) override;
 
   static constexpr std::size_t kSampledEchoes = 64;
   static constexpr std::size_t kPasses = 4;
+  // Behind a pane, an echo less than min_depth but more than this behind its plane [m] that is
+  // faint against what the pane lets through counts as its reflection (phantom_planes.cpp); nearer,
+  // it is the pane's own surface echo.
+  static constexpr float kMinFaintDepth = 0.1f;
 
   // Of `object`'s sampled surface echoes that lie at least min_depth behind `host`'s plane as seen
-  // from `origin`:
+  // from `origin` (or, behind a pane, faint and more than kMinFaintDepth behind it):
   struct Shares
   {
-    // the share that, reflected across it, land on what the sensor saw (ReflectionOutcome::phantom);
-    // 0 when `object` has more than max_echo_ratio times `host`'s surface echoes;
+    // the share that, reflected across it, land on what the sensor saw (ReflectionOutcome::phantom),
+    // or are faint just behind a pane; 0 when `object` has more than max_echo_ratio times `host`'s
+    // surface echoes (and `host` is no pane);
     float phantom = 0.0f;
+    // of which the share that land (or whose merged reflection does), without the faint echoes
+    // just behind a pane that count by their brightness alone (kMinFaintDepth).
+    float landed = 0.0f;
     // the share that do not, and whose beam's far echo (min_depth behind both planes) is a phantom
     // of `host` and not of `object`: `object` is a surface seen through `host` (0 when either is
     // typed mirror).
