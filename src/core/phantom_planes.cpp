@@ -211,11 +211,6 @@ void PhantomPlanes::process(const Sweep& sweep, const SweepContext& context, con
     if (host_of[o] != kNone || is_host[o] || host_of[h] != kNone)
       continue;
     host_of[o] = h;
-    std::size_t hf = 0, of = 0;
-    for (const PointRef& r : objects[h].surface_inliers)
-      hf += r.echo <= 1 && faintAsMergedReflection(objects[h], sweep.echoes[r.echo].points[r.beam], sweep.echoes[r.echo].intensities[r.beam], origin) ? 1 : 0;
-    for (const PointRef& r : objects[o].surface_inliers)
-      of += r.echo <= 1 && faintAsMergedReflection(objects[h], sweep.echoes[r.echo].points[r.beam], sweep.echoes[r.echo].intensities[r.beam], origin) ? 1 : 0;
     is_host[h] = true;
     seen_through[o] = std::get<3>(pair);
   }
