@@ -34,10 +34,9 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // and 400 scans. Behind a pane (the image of a box's hidden side) or another mirror (its image
   // in a mirror) an object typed mirror may still be one. make evaluate: no sweep changed.
   const bool mirror_behind_unknown = object.type == ObjectType::mirror && host.type == ObjectType::unknown;
-  const bool may_be_phantoms =
-      !mirror_behind_unknown &&
-      (host_is_pane ||
-       static_cast<float>(echoes.size()) <= config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size()));
+  const bool within_echo_ratio =
+      static_cast<float>(echoes.size()) <= config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size());
+  const bool may_be_phantoms = !mirror_behind_unknown && (host_is_pane || within_echo_ratio);
   // Nothing is seen through a mirror; and an object typed mirror showed reflections of its own
   // (a metal panel behind a glass wall, whose far echoes happened to land across the glass as well:
   // the 128-ring lidar's random_27) rather than being a wall seen through another.
@@ -63,9 +62,7 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // pane just behind a false object is still taken for its reflection: a pane's surface echoes
   // are as faint against what it lets through as a reflection is, and their incidence did not tell
   // them apart either (velodyne random_19009 and 19021 each lost a pane so).
-  const bool may_be_faint_reflections =
-      host_is_pane &&
-      static_cast<float>(echoes.size()) <= config_.max_echo_ratio * static_cast<float>(host.surface_inliers.size());
+  const bool may_be_faint_reflections = host_is_pane && within_echo_ratio;
   auto faintJustBehind = [&](const PointRef& ref) {
     if (!may_be_faint_reflections || ref.echo > 1)
       return false;
@@ -138,7 +135,7 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
       ++tested;
       if (host.signedDistance(p) >= -config_.min_depth)
       {
-        faint += may_be_phantoms ? 1 : 0;  // faintJustBehind
+        ++faint;  // let in by faintJustBehind: behind a pane, where may_be_phantoms holds
         continue;
       }
       // A real surface echo behind the host whose beam's far echo (behind both planes) is the
