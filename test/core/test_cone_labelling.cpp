@@ -856,6 +856,42 @@ MergedEchoes mergedEchoesBehindAPane(float shortfall, float brightness)
   return out;
 }
 
+// The pane at x = 2 as object extraction would report it (its 0.6 m surface-echo patch, seeing
+// through it as bright as the room), with as many surface echoes of its own as its phantom plane
+// has (a phantom plane has about as many as its pane's patch, PhantomPlaneConfig::max_echo_ratio;
+// only their count matters), and the object fitted to the merged echoes (typed mirror, as on the
+// 128-ring lidar's random_11), with the largest x among them.
+struct PaneAndMergedPlane
+{
+  core::ReflectiveObject pane;
+  core::ReflectiveObject merged;
+  float deepest = 0.0f;
+};
+
+PaneAndMergedPlane paneAndMergedPlane(const MergedEchoes& scene)
+{
+  PaneAndMergedPlane out;
+  out.pane = wallObject(2.0f, 0.6f, 1.0f, ObjectType::glass, 0);
+  out.pane.evidence.transmitted_brightness = 900.0f;
+  Eigen::Vector3f low = Eigen::Vector3f::Constant(1e9f), high = -low;
+  std::vector<core::PointRef> echoes;
+  for (const auto& beam_and_real : scene.real)
+  {
+    const auto beam = static_cast<std::uint32_t>(beam_and_real.first);
+    out.pane.surface_inliers.push_back(core::PointRef{ beam, 1 });
+    const Eigen::Vector3f& p = scene.sweep.echoes[0].points[beam];
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+    echoes.push_back(core::PointRef{ beam, 0 });
+  }
+  out.merged = wallObject(0.5f * (low.x() + high.x()), high.y() - low.y() + 0.1f, high.z() - low.z() + 0.1f,
+                          ObjectType::mirror, 1);
+  out.merged.centre = 0.5f * (low + high);
+  out.merged.surface_inliers = echoes;
+  out.deepest = high.x();
+  return out;
+}
+
 TEST(ConeLabelling, AnEchoOfThePaneMergedWithAReflectionIsBackProjectedToWhatItShows)
 {
   // Short of the reflection by 0.2 m, each merged echo, reflected, lies between the pillar and
@@ -947,25 +983,9 @@ TEST(ConeLabelling, APlaneOfMergedEchoesBehindAPaneIsItsPhantomPlaneAndBackProje
   // surface-echo patch, 0.6 m wide) does not reach them: its phantom plane's cone does, and they
   // are back-projected from there.
   const MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 20.0f);
-  core::ReflectiveObject pane = wallObject(2.0f, 0.6f, 1.0f, ObjectType::glass, 0);
-  pane.evidence.transmitted_brightness = 900.0f;
-  // As many surface echoes of its own as its phantom plane has (a phantom plane has about as
-  // many as its pane's patch, PhantomPlaneConfig::max_echo_ratio); only their count matters here.
-  for (const auto& beam_and_real : scene.real)
-    pane.surface_inliers.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 1 });
-  Eigen::Vector3f low = Eigen::Vector3f::Constant(1e9f), high = -low;
-  std::vector<core::PointRef> echoes;
-  for (const auto& beam_and_real : scene.real)
-  {
-    const Eigen::Vector3f& p = scene.sweep.echoes[0].points[beam_and_real.first];
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-    echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 0 });
-  }
-  core::ReflectiveObject merged = wallObject(0.5f * (low.x() + high.x()), high.y() - low.y() + 0.1f,
-                                             high.z() - low.z() + 0.1f, ObjectType::mirror, 1);
-  merged.centre = 0.5f * (low + high);
-  merged.surface_inliers = echoes;
+  const PaneAndMergedPlane fitted = paneAndMergedPlane(scene);
+  const core::ReflectiveObject& pane = fitted.pane;
+  const core::ReflectiveObject& merged = fitted.merged;
   std::vector<core::ReflectiveObject> objects{ pane, merged };
   core::SweepLabels labels;
   labels.reset(scene.sweep.beamCount());
@@ -1007,22 +1027,13 @@ TEST(ConeLabelling, FaintEchoesJustBehindAPaneAreItsPhantomPlaneByTheirBrightnes
   // are its reflections all the same, and the object fitted to them is its phantom plane.
   const MergedEchoes scene = mergedEchoesBehindAPane(0.3f, 20.0f);
   ASSERT_GT(scene.real.size(), 20u);
-  core::ReflectiveObject pane = wallObject(2.0f, 0.6f, 1.0f, ObjectType::glass, 0);
-  pane.evidence.transmitted_brightness = 900.0f;
-  for (const auto& beam_and_real : scene.real)
-    pane.surface_inliers.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 1 });
-  std::vector<core::PointRef> echoes;
-  float depth = 0.0f;
-  for (const auto& beam_and_real : scene.real)
-  {
-    echoes.push_back(core::PointRef{ static_cast<std::uint32_t>(beam_and_real.first), 0 });
-    depth = std::max(depth, scene.sweep.echoes[0].points[beam_and_real.first].x() - 2.0f);
-  }
+  const PaneAndMergedPlane fitted = paneAndMergedPlane(scene);
+  const core::ReflectiveObject& pane = fitted.pane;
+  const core::ReflectiveObject& merged = fitted.merged;
+  const float depth = fitted.deepest - 2.0f;
   const core::PhantomPlaneConfig config = core::stageConfigs(core::Params()).phantom_planes;
   ASSERT_LT(depth, config.min_depth);
   ASSERT_GT(depth, core::PhantomPlanes::kMinFaintDepth + 0.05f);
-  core::ReflectiveObject merged = wallObject(2.0f + depth, 1.0f, 1.0f, ObjectType::mirror, 1);
-  merged.surface_inliers = echoes;
   core::SweepLabels labels;
   labels.reset(scene.sweep.beamCount());
   core::ReflectionEvidence evidence;
