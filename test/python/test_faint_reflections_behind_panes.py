@@ -1,6 +1,6 @@
 """A reflection in a pane that lies just behind it is the pane's, not a mirror of its own.
 
-Random scene 29 of the 64-ring lidar: a person stands 0.45 m in front of a glass partition, 0.6 m
+Random scene 29 of the 64-ring lidar: a person stands 0.45 m in front of a glass partition, 0.8 m
 from the sensor; the partition pane images the person 0.2-0.35 m behind its plane, most of those
 echoes merged with the pane's own surface echo. Object extraction fits an object to them. So close
 behind the pane, reflected across it they land next to themselves and prove nothing; faint against
