@@ -103,6 +103,14 @@ bool diffuseReflectorMayOverrule(const ReflectiveObject& object)
          e.transmitted_points <= kSeenThroughDominance * (e.phantom_points + e.undecided_points);
 }
 
+bool seenThroughLeaningPane(const ReflectiveObject& object, const IntensityEvidenceConfig& config)
+{
+  const TypeEvidence& e = object.evidence;
+  return object.type == ObjectType::unknown && object.intensity.log_odds < 0.0f &&
+         e.transmitted_points + e.path_blocked_points >= config.min_seen_through &&
+         e.transmitted_points + e.path_blocked_points >= kSeenThroughLeaningDominance * e.phantom_points;
+}
+
 bool paneByItsEchoes(const IntensityFeatures& features)
 {
   // NaN (too few echoes for a feature) compares false.
@@ -283,8 +291,9 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
     const bool reflector = (unknown || diffuseReflectorMayOverrule(object)) && diffuseReflector(object);
     const bool pane = object.type == ObjectType::mirror && paneByItsEchoes(object.intensity);
     const bool by_log_odds = !reflector && unknown && std::abs(object.intensity.log_odds) >= config_.type_log_odds;
+    const bool seen_through = !reflector && !by_log_odds && seenThroughLeaningPane(object, config_);
     // Only an object that a rule would type is looked at against the others' cones.
-    if (!(reflector || pane || by_log_odds) ||
+    if (!(reflector || pane || by_log_odds || seen_through) ||
         seenBehindAnother(objects, i, sweep, origin, config_.plane_threshold, config_.reach))
       continue;
     if (reflector)
@@ -296,6 +305,11 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
     {
       object.type = ObjectType::glass;
       object.intensity.pane_by_echoes = true;
+    }
+    else if (seen_through)
+    {
+      object.type = ObjectType::glass;
+      object.intensity.seen_through_pane = true;
     }
     else
     {

@@ -532,6 +532,22 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
     object.type = ObjectType::mirror;
     result.typed_by_bright_phantoms = true;
   }
+  // Still unknown: which of the occluded points the cone labelling will keep as real because the
+  // light of a phantom there would have pierced a surface the sensor saw (a window to the outside:
+  // reflected across it, what lies outside lands beyond the room's walls). The type itself does
+  // not follow them (see above); the intensity stage may (intensity_evidence.h,
+  // seenThroughLeaningPane).
+  if (object.type == ObjectType::unknown)
+  {
+    ReflectionTestOptions options;
+    options.check_path = true;
+    std::size_t blocked = 0;
+    for (std::size_t s = 0; s < samples; ++s)
+      if (b.tests[s].outcome == ReflectionOutcome::occluded &&
+          evidence.test(object.plane, b.sample[s], object.landing_tolerance, options).path_blocked)
+        ++blocked;
+    result.path_blocked_points = estimated(blocked);
+  }
 }
 
 bool ObjectTypeAnalyzer::refineGrownPlane(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,

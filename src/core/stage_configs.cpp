@@ -1,5 +1,6 @@
 #include "ohm_mirror_detector3d/core/stage_configs.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ohm_mirror_detector3d/core/param_table.h"
@@ -88,6 +89,7 @@ StageConfigs stageConfigs(const Params& params)
   configs.intensity.echo_threshold = static_cast<float>(params.echo_threshold);
   configs.intensity.type_log_odds = static_cast<float>(params.intensity_type_log_odds);
   configs.intensity.reach = static_cast<float>(params.growth_max_extent);
+  configs.intensity.min_seen_through = static_cast<std::size_t>(std::max(params.icp_min_points, 0));
   auto feature = [](double mirror, double glass, double sigma) {
     return FeatureModel{ static_cast<float>(mirror), static_cast<float>(glass), static_cast<float>(sigma) };
   };

@@ -296,6 +296,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["dim_phantom_fraction"] = static_cast<double>(e.dim_phantom_fraction);
   d["typed_by_dim_phantoms"] = e.typed_by_dim_phantoms;
   d["typed_by_bright_phantoms"] = e.typed_by_bright_phantoms;
+  d["path_blocked_points"] = e.path_blocked_points;
   d["phantom_brightness"] = static_cast<double>(e.phantom_brightness);
   d["transmitted_brightness"] = static_cast<double>(e.transmitted_brightness);
   d["landing_brightness"] = static_cast<double>(e.landing_brightness);
@@ -311,6 +312,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["intensity_bright_backed_share"] = static_cast<double>(intensity.bright_backed_share);
   d["intensity_diffuse_reflector"] = intensity.diffuse_reflector;
   d["intensity_pane_by_echoes"] = intensity.pane_by_echoes;
+  d["intensity_seen_through_pane"] = intensity.seen_through_pane;
   d["intensity_haze"] = static_cast<double>(intensity.haze);
   d["intensity_echo_ratio"] = static_cast<double>(intensity.echo_ratio);
   d["intensity_log_odds"] = static_cast<double>(intensity.log_odds);

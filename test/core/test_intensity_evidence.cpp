@@ -513,5 +513,66 @@ TEST(IntensityEvidence, AMirrorsHazeOrShinyMetalsLitFaceKeepsTheGeometrysMirror)
   EXPECT_FALSE(objects[0].intensity.pane_by_echoes);
 }
 
+
+// An object the geometry left unknown, with `seen_through` points behind it seen through (and
+// `path_blocked` of its occluded ones real by their path) and `phantoms` landed as phantoms.
+core::ReflectiveObject unknownSeenThrough(std::size_t seen_through, std::size_t phantoms, std::size_t path_blocked = 0)
+{
+  core::ReflectiveObject o = analysed();
+  o.evidence.transmitted_points = seen_through;
+  o.evidence.phantom_points = phantoms;
+  o.evidence.path_blocked_points = path_blocked;
+  return o;
+}
+
+TEST(IntensityEvidence, AnUnknownObjectSeenThroughWhoseIntensitiesLeanToGlassIsGlass)
+{
+  // The frame off the peak and the pane's peak: intensities of glass. The typing threshold is set
+  // out of reach, so that the log-odds lean to glass without typing anything by themselves.
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  addFrame(beams);
+  const core::Sweep pane_sweep = sweepOf(beams);
+  core::IntensityEvidenceConfig leaning = config();
+  leaning.type_log_odds = 100.0f;
+  ASSERT_EQ(leaning.min_seen_through, 30u) << "icp_min_points";
+  auto run = [&leaning](const core::Sweep& sweep, std::vector<core::ReflectiveObject>& objects) {
+    core::SweepLabels labels;
+    core::IntensityEvidence(leaning).process(sweep, origin(), core::ReflectionEvidence(), labels, objects);
+  };
+  std::vector<core::ReflectiveObject> objects{ unknownSeenThrough(40, 0),      unknownSeenThrough(10, 0, 20),
+                                               unknownSeenThrough(40, 21),     unknownSeenThrough(29, 0),
+                                               analysed(core::ObjectType::mirror) };
+  objects[4].evidence.transmitted_points = 100;
+  run(pane_sweep, objects);
+  ASSERT_LT(objects[0].intensity.log_odds, 0.0f);
+  EXPECT_FALSE(core::diffuseReflector(objects[0].intensity)) << "nothing behind the frame";
+  for (std::size_t j = 0; j < 2; ++j)
+  {
+    EXPECT_EQ(objects[j].type, core::ObjectType::glass) << j;
+    EXPECT_TRUE(objects[j].intensity.seen_through_pane) << j;
+    EXPECT_FALSE(objects[j].intensity.typed) << j;
+  }
+  // Seen through, but fewer than twice as many as landed; too few seen through; typed by the geometry.
+  for (std::size_t j = 2; j < 4; ++j)
+  {
+    EXPECT_EQ(objects[j].type, core::ObjectType::unknown) << j;
+    EXPECT_FALSE(objects[j].intensity.seen_through_pane) << j;
+  }
+  EXPECT_EQ(objects[4].type, core::ObjectType::mirror);
+  EXPECT_FALSE(objects[4].intensity.seen_through_pane);
+
+  // Intensities of a mirror (a faint haze over its face, phantoms behind): beside a mirror the sensor
+  // sees as much, and the object stays unknown.
+  std::vector<std::pair<Echo, Echo>> mirror_beams;
+  addWalls(mirror_beams, 200);
+  addMirrorHaze(mirror_beams, false);
+  objects = { unknownSeenThrough(40, 0) };
+  run(sweepOf(mirror_beams), objects);
+  ASSERT_GT(objects[0].intensity.log_odds, 0.0f);
+  EXPECT_EQ(objects[0].type, core::ObjectType::unknown);
+  EXPECT_FALSE(objects[0].intensity.seen_through_pane);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

@@ -417,5 +417,34 @@ TEST(ObjectType, GlassAcrossACorridorIsGlassThoughItsFloorLandsOnItself)
   EXPECT_GT(object.evidence.transmitted_points, 100u);
 }
 
+
+TEST(ObjectType, AnUnknownObjectCountsTheOccludedPointsWhosePhantomLightAWallWouldHaveStopped)
+{
+  // A 4 cm sliver of a window at x = 2 in a room whose back wall (x = -0.5) the sensor sees; outside,
+  // a wall at x = 8. Reflected across the window, the outside lands behind the back wall (occluded),
+  // and a phantom's light would have had to cross that wall. Through the sliver's inside hardly a
+  // beam passes: the type stays unknown, and the points count as path-blocked, as the cone
+  // labelling will keep them (real, seen through).
+  const core::Sweep sweep = test::rangeImage({ { 0, -0.5f, test::everywhere }, { 0, 8.0f, test::everywhere } });
+  core::ReflectiveObject sliver = test::wallObject(2.0f, 0.04f, 1.0f);
+  EXPECT_EQ(typeIn(sweep, sliver), ObjectType::unknown);
+  EXPECT_EQ(sliver.evidence.transmitted_points, 0u);
+  EXPECT_GT(sliver.evidence.undecided_points, 30u);
+  // Most of them: the rest land beyond the sweep's +-60 deg of elevation, where nothing was seen.
+  EXPECT_GT(2 * sliver.evidence.path_blocked_points, sliver.evidence.undecided_points);
+  EXPECT_LE(sliver.evidence.path_blocked_points, sliver.evidence.undecided_points);
+
+  // Without the back wall nothing is seen where they land: no path is blocked.
+  const core::Sweep open = test::rangeImage({ { 0, 8.0f, test::everywhere } });
+  core::ReflectiveObject open_sliver = test::wallObject(2.0f, 0.04f, 1.0f);
+  EXPECT_EQ(typeIn(open, open_sliver), ObjectType::unknown);
+  EXPECT_EQ(open_sliver.evidence.path_blocked_points, 0u);
+
+  // An object the geometry typed (the whole window: its inside decides) is not looked at again.
+  core::ReflectiveObject window = test::wallObject(2.0f, 1.0f, 1.0f);
+  EXPECT_NE(typeIn(sweep, window), ObjectType::unknown);
+  EXPECT_EQ(window.evidence.path_blocked_points, 0u);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

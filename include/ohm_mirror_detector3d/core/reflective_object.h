@@ -46,6 +46,10 @@ struct TypeEvidence
   std::size_t transmitted_points = 0;  // estimated: seen through (what lies where they land is further away)
   std::size_t ambiguous_points = 0;    // estimated: land on a surface that continues through the plane
   std::size_t undecided_points = 0;    // estimated: where they land is occluded, out of view, or without return
+  // Of an object the type analysis left unknown: estimated, the undecided points whose phantom
+  // light would have had to pierce a surface the sensor saw on its way from the plane to where
+  // they land (ReflectionTestOptions::check_path), so real as the cone labelling counts them.
+  std::size_t path_blocked_points = 0;
   // Share of the tested points that land on what the sensor saw (phantoms and ambiguous).
   float inlier_fraction = std::numeric_limits<float>::quiet_NaN();
   // Share of the real points (transmitted; occluded too when few are transmitted or phantoms)
@@ -124,6 +128,9 @@ struct IntensityFeatures
   // No mirror's haze off its specular peak, and far echoes tens of times its near ones: typed
   // glass where the geometry said mirror (intensity_evidence.h, paneByItsEchoes).
   bool pane_by_echoes = false;
+  // Left unknown by the geometry, seen through and leaning to glass by the log-odds: typed glass
+  // (intensity_evidence.h, seenThroughLeaningPane).
+  bool seen_through_pane = false;
 };
 
 struct ReflectiveObject
