@@ -20,7 +20,7 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   Shares result;
   const std::vector<PointRef>& echoes = object.surface_inliers;
   const float origin_side = host.signedDistance(origin);
-  if (echoes.empty() || !(origin_side > 0.0f))
+  if (echoes.empty() || !(origin_side > 0.0f) || (config_.grown_hosts_only && !host.grown))
     return result;
   // A pane's surface echoes cover only its near-perpendicular patch; its phantom planes may hold
   // far more (random_29 on the rotating Hokuyo: 6321 against the patch's 623), so the echo ratio
@@ -62,7 +62,12 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // pane just behind a false object is still taken for its reflection: a pane's surface echoes
   // are as faint against what it lets through as a reflection is, and their incidence did not tell
   // them apart either (velodyne random_19009 and 19021 each lost a pane so).
-  const bool may_be_faint_reflections = host_is_pane && within_echo_ratio;
+  // A pane grown to its extent (glass_growth.h) is measured by that: its surface echoes still cover
+  // only its patch, and the phantom plane of something close in front of it may hold many more
+  // (the rotating Hokuyo's random_7: 3638 faint echoes 0.26 m behind a partition pane of 567, the
+  // reflection of what stands in front of it, typed mirror), but no rectangle larger than the pane.
+  const bool within_grown_pane = host.grown && object.width * object.height <= host.width * host.height;
+  const bool may_be_faint_reflections = host_is_pane && (within_echo_ratio || within_grown_pane);
   auto faintJustBehind = [&](const PointRef& ref) {
     if (!may_be_faint_reflections || ref.echo > 1)
       return false;

@@ -85,6 +85,14 @@ std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& co
   {
     stages.push_back(std::make_unique<GlassGrowth>(configs.growth));
     stages.push_back(std::make_unique<GrownPaneRefinement>(type_analyzer));
+    // Once more after growth, for the panes it grew: before it, a pane is often a handful of patches
+    // a few centimetres wide, none of which holds the phantom plane in front of which it stands.
+    if (configs.phantom_planes.enabled)
+    {
+      PhantomPlaneConfig grown_panes = configs.phantom_planes;
+      grown_panes.grown_hosts_only = true;
+      stages.push_back(std::make_unique<PhantomPlanes>(grown_panes));
+    }
   }
   if (configs.object_map.enabled)
     stages.push_back(std::make_unique<PostFilter>(object_map));

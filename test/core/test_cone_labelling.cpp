@@ -1063,5 +1063,47 @@ TEST(ConeLabelling, FaintEchoesJustBehindAPaneAreItsPhantomPlaneByTheirBrightnes
   EXPECT_LT(stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, speck).phantom, config.min_share);
 }
 
+
+TEST(ConeLabelling, APaneGrownToItsExtentTakesTheFaintPhantomPlaneItsFewSurfaceEchoesCouldNot)
+{
+  // The pane's surface echoes only a fifth of the merged plane's (a patch at its mullion): by the
+  // echo ratio it cannot hold the plane. Grown to its extent (0.6 x 1 m, larger than the plane's
+  // rectangle), it is measured by that and takes the plane in.
+  const MergedEchoes scene = mergedEchoesBehindAPane(0.3f, 20.0f);
+  ASSERT_GT(scene.real.size(), 20u);
+  const PaneAndMergedPlane fitted = paneAndMergedPlane(scene);
+  core::ReflectiveObject patch = fitted.pane;
+  patch.surface_inliers.resize(scene.real.size() / 5);
+  const core::ReflectiveObject& merged = fitted.merged;
+  ASSERT_LT(merged.width * merged.height, patch.width * patch.height);
+  core::SweepLabels labels;
+  labels.reset(scene.sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(scene.sweep, labels, Eigen::Vector3f::Zero());
+  const core::PhantomPlaneConfig config = core::stageConfigs(core::Params()).phantom_planes;
+  core::PhantomPlanes stage(config);
+  EXPECT_LT(stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, patch).phantom, config.min_share);
+  core::ReflectiveObject grown = patch;
+  grown.grown = true;
+  EXPECT_GE(stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, grown).phantom, 0.9f);
+  // Grown, but smaller than the plane: no reflection of something in front of it fills more than it.
+  core::ReflectiveObject small = grown;
+  small.width = 0.5f * merged.width;
+  small.height = merged.height;
+  EXPECT_LT(stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, small).phantom, config.min_share);
+
+  // The run after growth (grown_hosts_only, as the pipeline adds it) looks only at grown hosts.
+  core::PhantomPlaneConfig after_growth = config;
+  after_growth.grown_hosts_only = true;
+  core::PhantomPlanes second(after_growth);
+  core::ReflectiveObject whole = fitted.pane;  // all its surface echoes: within the echo ratio
+  EXPECT_GE(stage.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, whole).phantom, 0.9f);
+  EXPECT_FLOAT_EQ(second.shares(scene.sweep, Eigen::Vector3f::Zero(), evidence, merged, whole).phantom, 0.0f);
+  std::vector<core::ReflectiveObject> objects{ grown, merged };
+  second.process(scene.sweep, core::SweepContext(), evidence, labels, objects);
+  ASSERT_EQ(objects.size(), 1u);
+  EXPECT_EQ(objects[0].phantom_planes.size(), 1u);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

@@ -359,13 +359,21 @@ core::ReflectiveObject analysed(core::ObjectType type = core::ObjectType::unknow
 }
 
 // An object the geometry typed glass: its points behind, as the type analysis counted them.
-core::ReflectiveObject geometricGlass(std::size_t phantoms, std::size_t transmitted, std::size_t undecided)
+// An object of the given type with its points behind as the type analysis counted them.
+core::ReflectiveObject counted(core::ObjectType type, std::size_t phantoms, std::size_t transmitted,
+                               std::size_t undecided, std::size_t path_blocked = 0)
 {
-  core::ReflectiveObject o = analysed(core::ObjectType::glass);
+  core::ReflectiveObject o = analysed(type);
   o.evidence.phantom_points = phantoms;
   o.evidence.transmitted_points = transmitted;
   o.evidence.undecided_points = undecided;
+  o.evidence.path_blocked_points = path_blocked;
   return o;
+}
+
+core::ReflectiveObject geometricGlass(std::size_t phantoms, std::size_t transmitted, std::size_t undecided)
+{
+  return counted(core::ObjectType::glass, phantoms, transmitted, undecided);
 }
 
 TEST(IntensityEvidence, ShinyMetalIsAMirrorWhereTheGeometrySaidGlassOrNothing)
@@ -518,17 +526,13 @@ TEST(IntensityEvidence, AMirrorsHazeOrShinyMetalsLitFaceKeepsTheGeometrysMirror)
 // `path_blocked` of its occluded ones real by their path) and `phantoms` landed as phantoms.
 core::ReflectiveObject unknownSeenThrough(std::size_t seen_through, std::size_t phantoms, std::size_t path_blocked = 0)
 {
-  core::ReflectiveObject o = analysed();
-  o.evidence.transmitted_points = seen_through;
-  o.evidence.phantom_points = phantoms;
-  o.evidence.path_blocked_points = path_blocked;
-  return o;
+  return counted(core::ObjectType::unknown, phantoms, seen_through, path_blocked, path_blocked);
 }
 
 TEST(IntensityEvidence, AnUnknownObjectSeenThroughWhoseIntensitiesLeanToGlassIsGlass)
 {
-  // The frame off the peak and the pane's peak: intensities of glass. The typing threshold is set
-  // out of reach, so that the log-odds lean to glass without typing anything by themselves.
+  // Off the peak only a frame lit like a wall: intensities of glass. The typing threshold is set out
+  // of reach, so that the log-odds lean to glass without typing anything by themselves.
   std::vector<std::pair<Echo, Echo>> beams;
   addWalls(beams, 200);
   addFrame(beams);

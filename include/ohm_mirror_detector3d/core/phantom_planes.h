@@ -71,6 +71,8 @@ struct PhantomPlaneConfig
   // Hokuyo's random scenes 0-49); with no bound three of them (random_3, 7 and 48) were taken for
   // a pane's phantoms and lost.
   float max_hidden_depth = 0.5f;
+  // Only hosts that a growth stage grew (ReflectiveObject::grown): the second run, after growth.
+  bool grown_hosts_only = false;
 };
 
 class PhantomPlanes : public ObjectStage
