@@ -106,9 +106,10 @@ bool diffuseReflectorMayOverrule(const ReflectiveObject& object)
 bool seenThroughLeaningPane(const ReflectiveObject& object, const IntensityEvidenceConfig& config)
 {
   const TypeEvidence& e = object.evidence;
+  // Real either way: seen through, or occluded where a phantom's light could not have come from.
+  const std::size_t seen_through = e.transmitted_points + e.path_blocked_points;
   return object.type == ObjectType::unknown && object.intensity.log_odds < 0.0f &&
-         e.transmitted_points + e.path_blocked_points >= config.min_seen_through &&
-         e.transmitted_points + e.path_blocked_points >= kSeenThroughLeaningDominance * e.phantom_points;
+         seen_through >= config.min_seen_through && seen_through >= kSeenThroughLeaningDominance * e.phantom_points;
 }
 
 bool paneByItsEchoes(const IntensityFeatures& features)
