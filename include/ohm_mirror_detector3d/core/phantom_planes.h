@@ -31,6 +31,10 @@
 // nearly lies on, an echo lands next to itself. There an echo counts as the pane's reflection by
 // its brightness: fainter than a quarter of what the pane lets through, as a merged echo is
 // (merged_echoes.h). Pairs shown that way are assigned after the pairs that geometry shows.
+//
+// The pipeline runs the stage twice: before growth, and after it on the hosts growth grew only
+// (PhantomPlaneConfig::grown_hosts_only), whose faint phantom planes are bounded by the grown
+// rectangle rather than by the patch's surface echoes.
 #pragma once
 
 #include <cstddef>
