@@ -58,8 +58,11 @@ class FilterClient:
         stamp = rospy.Time.now()
         messages = sweep_to_messages(sweep, stamp)
         deadline = rospy.Time.now() + rospy.Duration(timeout)
-        # The pre-filter subscribes lazily: wait until it listens before sending the sweep.
-        while self.publisher.get_num_connections() == 0 and rospy.Time.now() < deadline:
+        # The pre-filter subscribes lazily: wait until it listens before sending the sweep, and until
+        # each of its outputs reaches us (an output published before its connection is up is lost:
+        # a fresh clone's growth_scenes once got experiment3's labelled, objects and markers only).
+        while (self.publisher.get_num_connections() == 0 or
+               any(s.get_num_connections() == 0 for s in self.subscribers)) and rospy.Time.now() < deadline:
             rospy.sleep(0.1)
         self.publisher.publish(messages['echo_pair'])
         while len(self.outputs.get(stamp, {})) < 4 and rospy.Time.now() < deadline:

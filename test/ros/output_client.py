@@ -23,9 +23,11 @@ class OutputClient:
         """The outputs {topic: message} answering `message` (matched by `stamp`, default its header's)."""
         stamp = stamp if stamp is not None else message.header.stamp
         deadline = rospy.Time.now() + rospy.Duration(timeout)
-        while self.publisher.get_num_connections() == 0 and rospy.Time.now() < deadline:
+        # Until the pre-filter listens and each of its outputs reaches us (an output published before
+        # its connection is up is lost).
+        while (self.publisher.get_num_connections() == 0 or
+               any(s.get_num_connections() == 0 for s in self.subscribers)) and rospy.Time.now() < deadline:
             rospy.sleep(0.1)
-        rospy.sleep(0.3)  # let the other outputs' connections come up too
         self.publisher.publish(message)
         while len(self.received.get(stamp, {})) < len(self.wanted) and rospy.Time.now() < deadline:
             rospy.sleep(0.05)
