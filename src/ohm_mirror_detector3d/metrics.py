@@ -327,6 +327,8 @@ def match_objects(truth_objects, detected_objects, max_normal_angle_deg=30.0, ma
                  'truth_height': float(t['height']), 'matched': i in pairs}
         if 'surface_points' in t:
             entry['truth_surface_points'] = int(t['surface_points'])
+        if 'double_echo_surface_points' in t:
+            entry['truth_double_echo_surface_points'] = int(t['double_echo_surface_points'])
         if i in pairs:
             entry.update(compare_objects(detected_objects[pairs[i]], t))
         matches.append(entry)
@@ -389,11 +391,23 @@ def aggregate_results(results):
 
 def type_accuracy(results, min_surface_points=50):
     """Over the ground-truth objects of all results with at least min_surface_points surface echoes:
-    {'objects', 'right', 'fraction'}; an object is right when a detection matched it with its type."""
+    {'objects', 'right', 'fraction'}; an object is right when a detection matched it with its type.
+    Where the truth says how many of an object's surface echoes came with a second echo, also
+    'no_double_echo' and 'no_double_echo_right': the objects none of whose surface echoes did (a
+    pane with nothing behind it in range: one sweep's echo comparison has nothing to go on there),
+    and how many of those are right."""
     objects = [m for r in results for m in r.get('objects', [])
                if m.get('truth_surface_points', 0) >= min_surface_points]
-    right = sum(1 for m in objects if m['matched'] and m['type_correct'])
-    return {'objects': len(objects), 'right': right, 'fraction': _ratio(right, len(objects))}
+    right = sum(1 for m in objects if _typed_right(m))
+    out = {'objects': len(objects), 'right': right, 'fraction': _ratio(right, len(objects))}
+    if objects and all('truth_double_echo_surface_points' in m for m in objects):
+        lone = [m for m in objects if m['truth_double_echo_surface_points'] == 0]
+        out.update(no_double_echo=len(lone), no_double_echo_right=sum(1 for m in lone if _typed_right(m)))
+    return out
+
+
+def _typed_right(match):
+    return match['matched'] and match['type_correct']
 
 
 def false_object_scenes(results):

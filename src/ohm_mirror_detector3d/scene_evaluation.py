@@ -19,7 +19,9 @@ Figures per family (metrics.py says how each is counted), pooled over the sweeps
   and of all phantoms;
 * real points lost from `cleaned`;
 * object types right, of the ground-truth objects with at least 50 surface echoes (an object is
-  right when a detection matched it and has its type; shiny metal counts as a mirror);
+  right when a detection matched it and has its type; shiny metal counts as a mirror), and beside
+  it how many of those objects gave no double echo on their surface at all (a pane with nothing
+  behind it in range), so that what one sweep's echo comparison cannot see is told apart;
 * scenes without any reflective surface in which the filter reported an object.
 """
 import json
@@ -245,7 +247,15 @@ def table(summaries, which='all'):
     lines.append('| scenes | – | %s |' % ' | '.join(counts))
     lines.append('| double-echo phantoms, of all phantoms | – | %s |' % ' | '.join(
         _share(summaries[f][which].get('counts', {}), 'double_echo_phantoms', 'phantoms') for f in families))
+    lines.append('| objects of the type figure with no double echo on their surface (right) | – | %s |' % ' | '.join(
+        _no_double_echo(summaries[f][which].get('object_types', {})) for f in families))
     return '\n'.join(lines) + '\n'
+
+
+def _no_double_echo(types):
+    if 'no_double_echo' not in types:
+        return '–'
+    return '%d of %d (%d right)' % (types['no_double_echo'], types['objects'], types['no_double_echo_right'])
 
 
 def _share(counts, part, whole):
@@ -292,7 +302,7 @@ def write(out_dir, summaries, results, md_text, meta):
     return json_path, md_path
 
 
-_OBJECT_KEYS = ('truth_name', 'truth_type', 'truth_surface_points', 'matched', 'detected_type', 'width_error',
+_OBJECT_KEYS = ('truth_name', 'truth_type', 'truth_surface_points', 'truth_double_echo_surface_points', 'matched', 'detected_type', 'width_error',
                 'height_error', 'corner_error_max')
 
 

@@ -48,7 +48,7 @@ from typing import List
 
 import numpy as np
 
-from . import scene as scenes
+from . import metrics, scene as scenes
 from .labels import Label
 from .physics import (SURFACE_DIFFUSE, SURFACE_GLASS, SURFACE_METAL, SURFACE_MIRROR, PhysicsParams, Returns,
                       SceneArrays, trace)
@@ -387,10 +387,14 @@ def physical_return_mask(gt):
 
 def ground_truth_objects(sweep):
     """The sweep's objects with the ground-truth point counts filled in (surface_points,
-    behind_points, mean_surface_intensity), as the evaluator compares them (also ros_io's)."""
+    double_echo_surface_points: those of a beam that returned a second echo too, behind_points,
+    mean_surface_intensity), as the evaluator compares them (also ros_io's)."""
     gt = sweep.ground_truth
     real = physical_return_mask(gt)
     intensity = np.r_[sweep.echo1['intensity'], sweep.echo2['intensity']]
+    # Per ground-truth row: its beam returned two echoes that differ (the evaluator's double-echo points).
+    _, keys, _, two = metrics.ground_truth_layout(gt)
+    beam_has_two = np.r_[two, two][keys]
     out = []
     for o in sweep.objects:
         mine = (gt['object_id'] == o['id']) & real
@@ -398,6 +402,7 @@ def ground_truth_objects(sweep):
         behind = mine & np.isin(gt['label'], [Label.BEHIND_REFLECTIVE, Label.BEHIND_TRANSPARENT])
         d = dict(o)
         d['surface_points'] = int(surface.sum())
+        d['double_echo_surface_points'] = int((surface & beam_has_two).sum())
         d['behind_points'] = int(behind.sum())
         d['mean_surface_intensity'] = float(intensity[surface].mean()) if surface.any() else float('nan')
         out.append(d)

@@ -141,6 +141,16 @@ def test_type_accuracy_counts_objects_with_enough_surface_echoes_and_false_objec
     # Only the first object has >= 50 surface echoes: typed glass once (wrong), mirror once (right).
     assert metrics.type_accuracy([with_objects, right], 50) == {'objects': 2, 'right': 1, 'fraction': 0.5}
     assert metrics.type_accuracy([with_objects], 5)['objects'] == 2
+    # Told how many surface echoes came with a second echo, it counts the objects with none apart.
+    lone = [dict(t, double_echo_surface_points=0) for t in truth]
+    lone_wrong = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[glass_guess], ground_truth_objects=lone)
+    lone_right = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[MIRROR], ground_truth_objects=lone)
+    assert lone_wrong['objects'][0]['truth_double_echo_surface_points'] == 0
+    assert metrics.type_accuracy([lone_wrong, lone_right], 50) == {
+        'objects': 2, 'right': 1, 'fraction': 0.5, 'no_double_echo': 2, 'no_double_echo_right': 1}
+    seen = [dict(t, double_echo_surface_points=t['surface_points']) for t in truth]
+    seen_right = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[MIRROR], ground_truth_objects=seen)
+    assert metrics.type_accuracy([seen_right], 50)['no_double_echo'] == 0
     plain_clean = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[], ground_truth_objects=[])
     plain_false = metrics.evaluate_sweep(hand_made_ground_truth(), objects=[MIRROR, glass_guess],
                                          ground_truth_objects=[])

@@ -71,6 +71,10 @@ def test_a_small_run_writes_the_table_with_the_targets(core, tmp_path, capsys):
     assert summary['sweeps'] == 1 and data['sweeps'][0]['scene'] == 'random_3'
     for key in ('iou', 'real_lost_fraction', 'object_types', 'false_objects'):
         assert key in summary
+    lone = [l for l in text.splitlines() if l.startswith('| objects of the type figure with no double echo')]
+    types = summary['object_types']
+    assert lone and '%d of %d (%d right)' % (types['no_double_echo'], types['objects'],
+                                             types['no_double_echo_right']) in lone[0]
     assert ev.main(['--families', 'leica']) == 2
     assert ev.main(['--params', str(tmp_path / 'missing.yaml')]) == 2
 
@@ -85,3 +89,19 @@ def test_realism_figures_of_the_random_scenes():
     assert 0.0 < figures['second_returns_on_ordinary_geometry'] < 0.5
     table = ev.realism_table({'hesai_qt64': figures})
     assert 'about a fifth' in table and 'hesai_qt64' in table.splitlines()[0]
+
+
+def test_a_window_with_nothing_in_range_behind_it_gives_surface_echoes_without_a_second_echo():
+    """The evaluator tells these panes apart (type_accuracy's no_double_echo): the 32-ring lidar's
+    random_4 sees a window to the sky head-on (surface echoes, none with a second echo) and two mirrors
+    and shiny metal whose surface echoes nearly all come with their phantom as second echo."""
+    from ohm_mirror_detector3d import scene
+    from ohm_mirror_detector3d.simulate import SweepSimulator, ground_truth_objects
+    case = ev.cases(['velodyne_hdl32e'], 1, 4, named=False)[0]
+    sweep = SweepSimulator(scene.get(case.scene), ev.scanner_of(case)).sweep(seed=case.seed)
+    truth = [t for t in ground_truth_objects(sweep) if t['surface_points'] >= ev.MIN_SURFACE_POINTS]
+    windows = [t for t in truth if t['name'].startswith('window_')]
+    reflective = [t for t in truth if t['type'] == 1]
+    assert windows and all(t['double_echo_surface_points'] == 0 for t in windows)
+    assert len(reflective) == 3
+    assert all(t['double_echo_surface_points'] >= 0.9 * t['surface_points'] for t in reflective)
