@@ -127,6 +127,7 @@ Pipeline::Stages::Stages(const StageConfigs& configs)
   : range_gate(configs.range_gate)
   , outlier_filter(configs.outlier_filter)
   , echo_comparison(configs.echo_comparison)
+  , specular_spots(configs.specular_spots)
   , object_extractor(configs.object_extraction)
   , mixed_pixels(configs.mixed_pixels)
   , type_analyzer(configs.object_type)
@@ -191,6 +192,8 @@ void Pipeline::detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, 
   countRemoved(in_range_, r.labels, r.removals);
   r.times.outlier_filter = clock.lap();
   r.error_surface_points = s.echo_comparison.apply(sweep, r.labels);
+  r.specular_spot_points = s.specular_spots.apply(sweep, r.sampling, sensor_origin, r.labels);
+  r.error_surface_points += r.specular_spot_points;
   r.times.echo_comparison = clock.lap();
   // Too few surface echoes for an object: only the mixed pixels among them are to be found.
   if (r.error_surface_points >= s.min_object_points)
@@ -213,6 +216,8 @@ void Pipeline::detect(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, 
   r.times.object_extraction = clock.lap();
   if (!r.objects.empty())
     s.type_analyzer.analyzeAll(sweep, sensor_origin, r.labels, evidence(sweep, sensor_origin), r.objects);
+  if (r.specular_spot_points > 0)
+    s.specular_spots.typeOpenSpots(r.objects);
   r.times.type_analysis = clock.lap();
 }
 

@@ -49,12 +49,15 @@ StageConfigs stageConfigs(const Params& params)
   configs.outlier_filter.neighbourhood = around;
   configs.outlier_filter.neighbourhood.half_width = halfWidthHolding(min_neighbors);
   configs.echo_comparison = EchoComparisonConfig{ params.echo_threshold };
+  configs.specular_spots.enabled = params.specular_spot_ratio > 0.0;
+  configs.specular_spots.min_brightness_ratio = params.specular_spot_ratio;
   // Surface echoes of one object are as dense as the points the outlier filter keeps: its
   // neighbourhood also decides which of them are connected.
   configs.object_extraction.plane_threshold = params.plane_threshold;
   configs.object_extraction.min_object_points =
       isAutomatic(params, "planeDetection_minAmountPoints") ? kAutomaticMinObjectPoints : params.min_object_points;
   configs.object_extraction.connection_distance = params.outlier_radius;
+  configs.specular_spots.min_points = static_cast<std::size_t>(std::max(configs.object_extraction.min_object_points, 3));
   configs.object_extraction.follows_sampling = radius_automatic;
   configs.object_extraction.neighbourhood = around;
   // The original's metric r, set, is honoured as the original used it: no test in beams.

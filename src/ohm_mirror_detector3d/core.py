@@ -219,7 +219,7 @@ class FilterResult:
       mirrored_points, tested_points, inlier_fraction, real_fraction, landing_fitness,
       phantom_share_points, phantom_intensity_share, dim_phantom_fraction, typed_by_dim_phantoms
       (the sampled phantoms' brightness against what they land on; glass when enough are too dim
-      for a mirror), phantom_brightness, transmitted_brightness and landing_brightness (median intensity x range^2 of
+      for a mirror), typed_as_open_spot (glass: a specular spot with nothing behind it), phantom_brightness, transmitted_brightness and landing_brightness (median intensity x range^2 of
       the sampled phantoms, the points seen through, what the phantoms land on), seen_through_brightness
       (the one of the last two the brightness rules compare with behind glass), plane_refined, plane_correction, mean_surface_intensity, and with intensity_evidence the intensity
       features intensity_echoes, intensity_off_peak, intensity_faint_share, intensity_haze,

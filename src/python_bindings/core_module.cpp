@@ -296,6 +296,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["dim_phantom_fraction"] = static_cast<double>(e.dim_phantom_fraction);
   d["typed_by_dim_phantoms"] = e.typed_by_dim_phantoms;
   d["typed_by_bright_phantoms"] = e.typed_by_bright_phantoms;
+  d["typed_as_open_spot"] = e.typed_as_open_spot;
   d["path_blocked_points"] = e.path_blocked_points;
   d["phantom_brightness"] = static_cast<double>(e.phantom_brightness);
   d["transmitted_brightness"] = static_cast<double>(e.transmitted_brightness);
@@ -341,6 +342,7 @@ py::dict statsOf(const core::PipelineResult& r, const core::Params& params)
   stats["stage_seconds"] = stage_seconds;
   stats["released_surface_beams"] = r.released_surface_beams;
   stats["mixed_pixel_beams"] = r.mixed_pixel_beams;
+  stats["specular_spot_points"] = r.specular_spot_points;
   stats["echo_separation"] = r.echo_separation;
   stats["multiply_reflected_phantoms"] = r.reflection_chains.multiply_reflected;
   stats["unexplained_phantoms"] = r.reflection_chains.unexplained;

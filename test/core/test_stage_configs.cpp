@@ -34,6 +34,9 @@ TEST(StageConfigs, EachStageGetsItsOwnValuesFromTheParameters)
   EXPECT_EQ(c.outlier_filter.radius, p.outlier_radius);
   EXPECT_EQ(c.outlier_filter.min_neighbors, p.outlier_min_neighbors);
   EXPECT_EQ(c.echo_comparison.threshold, p.echo_threshold);
+  EXPECT_EQ(c.specular_spots.min_brightness_ratio, p.specular_spot_ratio);
+  EXPECT_EQ(c.specular_spots.enabled, p.specular_spot_ratio > 0.0);
+  EXPECT_EQ(c.specular_spots.min_points, static_cast<std::size_t>(p.min_object_points));
   EXPECT_EQ(c.object_extraction.plane_threshold, p.plane_threshold);
   EXPECT_EQ(c.object_extraction.min_object_points, p.min_object_points);
   EXPECT_EQ(c.object_extraction.connection_distance, p.outlier_radius);
@@ -104,6 +107,8 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.outlier_filter.radius != before.outlier_filter.radius ||
         after.outlier_filter.min_neighbors != before.outlier_filter.min_neighbors ||
         after.echo_comparison.threshold != before.echo_comparison.threshold ||
+        after.specular_spots.enabled != before.specular_spots.enabled ||
+        after.specular_spots.min_brightness_ratio != before.specular_spots.min_brightness_ratio ||
         after.object_extraction.plane_threshold != before.object_extraction.plane_threshold ||
         after.object_extraction.min_object_points != before.object_extraction.min_object_points ||
         after.object_extraction.connection_distance != before.object_extraction.connection_distance ||

@@ -75,7 +75,8 @@ struct PipelineResult
   SweepSampling sampling;                  // the sweep's grid and angular steps, as worked out
   std::size_t range_gated_points = 0;      // labelled nanPoint by the range gate
   std::size_t outlier_points = 0;          // labelled nanPoint by both outlier filter passes
-  std::size_t error_surface_points = 0;    // n_affected of the echo comparison
+  std::size_t error_surface_points = 0;    // n_affected of the echo comparison, plus the specular spots' returns
+  std::size_t specular_spot_points = 0;    // returns of specular spots (specular_spots.h) labelled errorSurface
   // Beams whose errorSurface echo the outlier filter's errorSurface pass in the sweep's
   // sampling found without support (both echoes unchecked again), and mixed pixels (MixedPixels).
   std::size_t released_surface_beams = 0;
@@ -124,6 +125,7 @@ private:
     RangeGate range_gate;
     OutlierFilter outlier_filter;
     EchoComparison echo_comparison;
+    SpecularSpots specular_spots;
     ObjectExtractor object_extractor;
     MixedPixels mixed_pixels;
     ObjectTypeAnalyzer type_analyzer;

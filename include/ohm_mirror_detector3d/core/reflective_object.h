@@ -75,6 +75,10 @@ struct TypeEvidence
   // typed mirror by its phantoms' brightness: bright enough for no reflection in glass, and landing
   // as a mirror's phantoms land (object_type.cpp).
   bool typed_by_bright_phantoms = false;
+  // Whether the object was a specular spot (specular_spots.h) with no phantom behind it that the
+  // type analysis left unknown, and was typed glass for it: the rays around the spot went through
+  // its plane and returned nothing or from beyond it (a window to open space).
+  bool typed_as_open_spot = false;
   // The type the geometry of the points behind gave, before their intensities were looked at.
   ObjectType geometric_type = ObjectType::unknown;
   // Median brightness (intensity x range^2) of the sampled phantoms and of the sampled points seen

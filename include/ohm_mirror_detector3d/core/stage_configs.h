@@ -20,6 +20,7 @@
 #include "ohm_mirror_detector3d/core/phantom_planes.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
 #include "ohm_mirror_detector3d/core/reflection_chains.h"
+#include "ohm_mirror_detector3d/core/specular_spots.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -30,6 +31,7 @@ struct StageConfigs
   RangeGateConfig range_gate;
   OutlierFilterConfig outlier_filter;
   EchoComparisonConfig echo_comparison;
+  SpecularSpotConfig specular_spots;
   ObjectExtractionConfig object_extraction;
   MixedPixelConfig mixed_pixels;
   ObjectTypeConfig object_type;

@@ -1,0 +1,285 @@
+#include "ohm_mirror_detector3d/core/specular_spots.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ohm_mirror_detector3d
+{
+namespace core
+{
+namespace
+{
+// The window's median is taken over at most about this many of its returns (every k-th row and
+// column): enough for a median, and a wide window on a fine grid (the Ouster's 35 columns) costs
+// no more than a narrow one.
+constexpr std::size_t kWindowSamples = 64;
+// Seeds must be at least this share of min_brightness_ratio times the sweep's median single
+// return: a cheap test that spares the window's median to the many local maxima of noise on
+// diffuse surfaces. A quarter leaves the window's own test to decide down to windows four times
+// darker than the sweep's median.
+constexpr float kSweepMedianShare = 0.25f;
+// Sample of single returns for the sweep's median.
+constexpr std::size_t kSweepSamples = 4096;
+// A spot whose returns spread along a line (their second moment across it below this share of
+// the one along it) is a line of beams, not a surface: no plane to be perpendicular to.
+constexpr double kMinAspect = 0.01;
+// Returns farther from the spot's plane than this (RMS) [m]: no plane. Above every family's
+// range noise (1-3 cm).
+constexpr double kMaxPlaneRms = 0.03;
+
+float medianOf(std::vector<float>& values)
+{
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+}  // namespace
+
+SpecularSpots::SpecularSpots(const SpecularSpotConfig& config) : config_(config)
+{
+}
+
+bool SpecularSpots::single(const SweepLabels& labels, std::size_t beam)
+{
+  const Label second = labels.echoes[1][beam];
+  return labels.echoes[0][beam] == Label::unchecked && (second == Label::unchecked || second == Label::nanPoint);
+}
+
+std::size_t SpecularSpots::apply(const Sweep& sweep, const SweepSampling& sampling,
+                                 const Eigen::Vector3f& sensor_origin, SweepLabels& labels)
+{
+  const std::size_t rows = sweep.rows;
+  const std::size_t cols = sweep.cols;
+  const std::size_t beams = sweep.beamCount();
+  if (!config_.enabled || !sweep.has_intensity || !sampling.hasGrid() || sampling.rows != rows ||
+      sampling.cols != cols || !(sampling.row_step > 0.0) || !(sampling.col_step > 0.0) || beams == 0)
+    return 0;
+
+  // Intensity x range^2 of every single return: a beam the echo comparison left alone (no second
+  // echo of its own, or one within its threshold), first echo unchecked.
+  const std::vector<float>& ranges = sweep.echoes[0].ranges;
+  const std::vector<float>& intensities = sweep.echoes[0].intensities;
+  in_spot_.assign(beams, 0);
+  brightness_.assign(beams, std::numeric_limits<float>::quiet_NaN());
+  window_.clear();
+  const std::size_t sweep_stride = std::max<std::size_t>(1, beams / kSweepSamples);
+  for (std::size_t b = 0; b < beams; ++b)
+  {
+    if (!single(labels, b))
+      continue;
+    const float range = ranges[b];
+    const float intensity = b < intensities.size() ? intensities[b] : std::numeric_limits<float>::quiet_NaN();
+    if (!(range > 0.0f) || !(intensity > 0.0f) || !std::isfinite(intensity))
+      continue;
+    brightness_[b] = intensity * range * range;
+    if (b % sweep_stride == 0)
+      window_.push_back(brightness_[b]);
+  }
+  if (window_.size() < config_.min_points)
+    return 0;
+  const float ratio = static_cast<float>(config_.min_brightness_ratio);
+  const float sweep_median = medianOf(window_);
+  const float seed_floor = kSweepMedianShare * ratio * sweep_median;
+
+  const std::size_t half_rows = static_cast<std::size_t>(std::lround(config_.window / sampling.row_step));
+  const std::size_t half_cols = static_cast<std::size_t>(std::lround(config_.window / sampling.col_step));
+  const std::size_t window_beams = (2 * half_rows + 1) * (2 * half_cols + 1);
+  const std::size_t stride = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(window_beams) / kWindowSamples))));
+  state_.assign(beams, 0);
+  std::size_t labelled = 0;
+  for (std::size_t seed = 0; seed < beams; ++seed)
+  {
+    const float bright = brightness_[seed];
+    if (!(bright >= seed_floor) || state_[seed] != 0)
+      continue;
+    const std::size_t row = seed / cols;
+    const std::size_t col = seed % cols;
+    // A local maximum among its eight neighbours.
+    bool maximum = true;
+    for (std::size_t r = row > 0 ? row - 1 : 0; maximum && r <= std::min(rows - 1, row + 1); ++r)
+      for (std::size_t c = col > 0 ? col - 1 : 0; c <= std::min(cols - 1, col + 1); ++c)
+        if (brightness_[r * cols + c] > bright)
+        {
+          maximum = false;
+          break;
+        }
+    if (!maximum)
+      continue;
+    // The median single return of the window around it.
+    // Where most of the window returned no single return (a window to the sky larger than it),
+    // the spot's own returns would be its median: the sweep's median single return stands in.
+    window_.clear();
+    std::size_t looked_at = 0;
+    const std::size_t r0 = row >= half_rows ? row - half_rows : 0;
+    const std::size_t c0 = col >= half_cols ? col - half_cols : 0;
+    for (std::size_t r = r0; r <= std::min(rows - 1, row + half_rows); r += stride)
+      for (std::size_t c = c0; c <= std::min(cols - 1, col + half_cols); c += stride)
+      {
+        ++looked_at;
+        if (std::isfinite(brightness_[r * cols + c]))
+          window_.push_back(brightness_[r * cols + c]);
+      }
+    const float reference = 2 * window_.size() >= looked_at ? medianOf(window_) : sweep_median;
+    const float threshold = ratio * reference;
+    if (!(bright >= threshold))
+      continue;
+
+    // The spot: the seed's connected single returns at least that bright.
+    spot_.clear();
+    spot_.push_back(static_cast<std::uint32_t>(seed));
+    state_[seed] = 2;
+    for (std::size_t k = 0; k < spot_.size(); ++k)
+    {
+      const std::size_t b = spot_[k];
+      const std::size_t br = b / cols;
+      const std::size_t bc = b % cols;
+      for (std::size_t r = br > 0 ? br - 1 : 0; r <= std::min(rows - 1, br + 1); ++r)
+        for (std::size_t c = bc > 0 ? bc - 1 : 0; c <= std::min(cols - 1, bc + 1); ++c)
+        {
+          const std::size_t n = r * cols + c;
+          if (state_[n] == 0 && brightness_[n] >= threshold)
+          {
+            state_[n] = 2;
+            spot_.push_back(static_cast<std::uint32_t>(n));
+          }
+        }
+    }
+    bool keep = spot_.size() >= config_.min_points &&
+                      plausible(sweep, labels, sensor_origin, seed, std::max<std::size_t>(1, half_rows),
+                                std::max<std::size_t>(1, half_cols));
+    if (keep)
+    {
+      // The spot's rim: the single returns next to it on its plane. Only the brightest share of
+      // the beam comes back from the spot's centre; around it the same surface returns dimmer
+      // echoes (a beam straddling the spot's edge), and without them a spot on a coarse grid
+      // (three rings of a 32-ring lidar) is too thin for an object.
+      const std::size_t core_size = spot_.size();
+      bool touches_surface = false;
+      for (std::size_t k = 0; k < core_size; ++k)
+      {
+        const std::size_t b = spot_[k];
+        const std::size_t br = b / cols;
+        const std::size_t bc = b % cols;
+        for (std::size_t r = br > 0 ? br - 1 : 0; r <= std::min(rows - 1, br + 1); ++r)
+          for (std::size_t c = bc > 0 ? bc - 1 : 0; c <= std::min(cols - 1, bc + 1); ++c)
+          {
+            const std::size_t n = r * cols + c;
+            // Next to the echo comparison's surface echoes, the spot is part of a surface the
+            // double echoes found already (or of what lies behind one: a pane's reflection).
+            touches_surface = touches_surface || labels.echoes[0][n] == Label::errorSurface ||
+                              labels.echoes[1][n] == Label::errorSurface;
+            if (state_[n] != 0 || !single(labels, n) || !sweep.echoes[0].points[n].allFinite())
+              continue;
+            const double off_plane =
+                std::fabs(plane_normal_.dot(sweep.echoes[0].points[n].cast<double>() - plane_point_));
+            if (off_plane <= kMaxPlaneRms)
+            {
+              state_[n] = 2;
+              spot_.push_back(static_cast<std::uint32_t>(n));
+            }
+          }
+      }
+      keep = !touches_surface;
+    }
+    for (const std::uint32_t b : spot_)
+    {
+      state_[b] = 1;
+      if (keep)
+      {
+        labels.echoes[0][b] = Label::errorSurface;
+        in_spot_[b] = 1;
+      }
+    }
+    labelled += keep ? spot_.size() : 0;
+  }
+  return labelled;
+}
+
+std::size_t SpecularSpots::typeOpenSpots(std::vector<ReflectiveObject>& objects) const
+{
+  std::size_t typed = 0;
+  for (ReflectiveObject& object : objects)
+  {
+    if (object.type != ObjectType::unknown || object.evidence.phantom_points > 0 || object.surface_inliers.empty())
+      continue;
+    std::size_t from_spots = 0;
+    for (const PointRef& ref : object.surface_inliers)
+      from_spots += ref.echo == 0 && ref.beam < in_spot_.size() && in_spot_[ref.beam] != 0 ? 1 : 0;
+    if (2 * from_spots < object.surface_inliers.size())
+      continue;
+    object.type = ObjectType::glass;
+    object.evidence.typed_as_open_spot = true;
+    ++typed;
+  }
+  return typed;
+}
+
+bool SpecularSpots::plausible(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
+                              std::size_t brightest, std::size_t band_rows, std::size_t band_cols)
+{
+  const std::vector<Eigen::Vector3f>& points = sweep.echoes[0].points;
+  const std::size_t rows = sweep.rows;
+  const std::size_t cols = sweep.cols;
+  // Plane of the spot.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const std::uint32_t b : spot_)
+    mean += points[b].cast<double>();
+  mean /= static_cast<double>(spot_.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  std::size_t r_min = rows, r_max = 0, c_min = cols, c_max = 0;
+  for (const std::uint32_t b : spot_)
+  {
+    const Eigen::Vector3d d = points[b].cast<double>() - mean;
+    covariance += d * d.transpose();
+    r_min = std::min<std::size_t>(r_min, b / cols);
+    r_max = std::max<std::size_t>(r_max, b / cols);
+    c_min = std::min<std::size_t>(c_min, b % cols);
+    c_max = std::max<std::size_t>(c_max, b % cols);
+  }
+  covariance /= static_cast<double>(spot_.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  const Eigen::Vector3d moments = solver.eigenvalues();  // ascending
+  if (!(moments[1] >= kMinAspect * moments[2]) || !(moments[0] <= kMaxPlaneRms * kMaxPlaneRms))
+    return false;
+  const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+  plane_point_ = mean;
+  plane_normal_ = normal;
+  const Eigen::Vector3d beam = (points[brightest] - sensor_origin).cast<double>().normalized();
+  if (!(std::fabs(normal.dot(beam)) >= std::cos(config_.max_incidence)))
+    return false;
+
+  // The band around the spot's box on the grid: rays that went through the plane, returning
+  // nothing or from beyond it. (The spot's own dimmer returns around it, and the wall or frame
+  // the pane sits in, lie on the plane and count as closed.)
+  Eigen::Vector3d towards_sensor = normal;
+  if (towards_sensor.dot(sensor_origin.cast<double>() - mean) < 0.0)
+    towards_sensor = -towards_sensor;
+  std::size_t band = 0, open = 0;
+  const std::size_t r0 = r_min >= band_rows ? r_min - band_rows : 0;
+  const std::size_t c0 = c_min >= band_cols ? c_min - band_cols : 0;
+  for (std::size_t r = r0; r <= std::min(rows - 1, r_max + band_rows); ++r)
+    for (std::size_t c = c0; c <= std::min(cols - 1, c_max + band_cols); ++c)
+    {
+      if (r >= r_min && r <= r_max && c >= c_min && c <= c_max)
+        continue;
+      const std::size_t b = r * cols + c;
+      ++band;
+      bool any = false, beyond = false;
+      for (int echo = 0; echo < 2; ++echo)
+      {
+        const Eigen::Vector3f& p = sweep.echoes[echo].points[b];
+        if (labels.echoes[echo][b] == Label::nanPoint || !p.allFinite())
+          continue;
+        any = true;
+        beyond = beyond || towards_sensor.dot(p.cast<double>() - mean) < -config_.open_depth;
+      }
+      open += !any || beyond ? 1 : 0;
+    }
+  return band > 0 && static_cast<double>(open) >= config_.min_open_share * static_cast<double>(band);
+}
+
+}  // namespace core
+}  // namespace ohm_mirror_detector3d
