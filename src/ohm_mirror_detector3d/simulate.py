@@ -48,7 +48,7 @@ from typing import List
 
 import numpy as np
 
-from . import metrics, scene as scenes
+from . import scene as scenes
 from .labels import Label
 from .physics import (SURFACE_DIFFUSE, SURFACE_GLASS, SURFACE_METAL, SURFACE_MIRROR, PhysicsParams, Returns,
                       SceneArrays, trace)
@@ -392,9 +392,9 @@ def ground_truth_objects(sweep):
     gt = sweep.ground_truth
     real = physical_return_mask(gt)
     intensity = np.r_[sweep.echo1['intensity'], sweep.echo2['intensity']]
-    # Per ground-truth row: its beam returned two echoes that differ (the evaluator's double-echo points).
-    _, keys, _, two = metrics.ground_truth_layout(gt)
-    beam_has_two = np.r_[two, two][keys]
+    # Per ground-truth entry: its beam returned two echoes that differ (the evaluator's double-echo points).
+    two = real[len(gt) // 2:]
+    beam_has_two = np.r_[two, two]
     out = []
     for o in sweep.objects:
         mine = (gt['object_id'] == o['id']) & real
