@@ -81,11 +81,11 @@ private:
                  std::size_t brightest, std::size_t band_rows, std::size_t band_cols);
 
   SpecularSpotConfig config_;
-  std::vector<float> brightness_;   // intensity x range^2 of single returns, NaN elsewhere
-  std::vector<float> window_;       // scratch for medians
-  std::vector<std::uint8_t> state_; // 0 free, 1 in a spot found, 2 queued in the current one
-  std::vector<std::uint32_t> spot_; // the current spot's beams
+  std::vector<float> window_;          // scratch for medians
+  std::vector<std::uint8_t> state_;    // per beam: 0 free, 1 in a spot looked at, 2 in the current one
   std::vector<std::uint8_t> in_spot_;  // per beam: its first echo was labelled by a spot
+  std::vector<std::uint32_t> touched_; // the beams whose state_ (and in_spot_) this sweep set
+  std::vector<std::uint32_t> spot_;    // the current spot's beams
   // The current spot's plane (plausible() fits it).
   Eigen::Vector3d plane_point_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d plane_normal_ = Eigen::Vector3d::UnitZ();
