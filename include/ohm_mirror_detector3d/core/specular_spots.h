@@ -26,8 +26,8 @@ struct SpecularSpotConfig
   // (the sweep's median single return where most of the window returned none: a window to the sky
   // wider than it). params.specular_spot_ratio.
   // A pane or a mirror met head-on sends back the specular share of the beam: in the simulator
-  // 10-40 times a wall's diffuse return at the centre, and real panes seen head-on saturate
-  // scanners whose walls return a tenth of full scale.
+  // 10-40 times a wall's diffuse return at the centre. Real scanners show the same highlight on
+  // glass met head-on; how bright depends on the scanner (lower the ratio where it is weaker).
   double min_brightness_ratio = 8.0;
   // Half the side of that window [rad], in rows and columns of the beam grid.
   double window = 0.0524;  // 3 degrees
