@@ -1,6 +1,7 @@
 #include "ohm_mirror_detector3d/core/intensity_evidence.h"
 
 #include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/median.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
 
 #include <algorithm>
@@ -18,11 +19,7 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 float median(std::vector<float>& values)
 {
-  if (values.empty())
-    return kNaN;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+  return values.empty() ? kNaN : medianInPlace(values);
 }
 
 bool finite(const Eigen::Vector3f& p)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ohm_mirror_detector3d/core/median.h"
 #include "ohm_mirror_detector3d/core/parallel.h"
 
 namespace ohm_mirror_detector3d
@@ -109,11 +110,7 @@ constexpr std::size_t kMinReturnsPerPart = 16384;
 
 float median(std::vector<float>& values)
 {
-  if (values.empty())
-    return 0.0f;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+  return values.empty() ? 0.0f : medianInPlace(values);
 }
 
 float angleBetween(const Eigen::Vector3f& a, const Eigen::Vector3f& b)

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ohm_mirror_detector3d/core/median.h"
+
 namespace ohm_mirror_detector3d
 {
 namespace core
@@ -40,12 +42,6 @@ void forEachAround(std::size_t b, std::size_t rows, std::size_t cols, Visit visi
       visit(r * cols + c);
 }
 
-float medianOf(std::vector<float>& values)
-{
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 }  // namespace
 
 SpecularSpots::SpecularSpots(const SpecularSpotConfig& config) : config_(config)
@@ -110,7 +106,7 @@ std::size_t SpecularSpots::apply(const Sweep& sweep, const SweepSampling& sampli
   if (window_.size() < config_.min_points)
     return 0;
   const float ratio = static_cast<float>(config_.min_brightness_ratio);
-  const float sweep_median = medianOf(window_);
+  const float sweep_median = medianInPlace(window_);
   const float seed_floor = kSweepMedianShare * ratio * sweep_median;
 
   const std::size_t half_rows = static_cast<std::size_t>(std::lround(config_.window / sampling.row_step));
@@ -149,7 +145,7 @@ std::size_t SpecularSpots::apply(const Sweep& sweep, const SweepSampling& sampli
         if (std::isfinite(q))
           window_.push_back(q);
       }
-    const float reference = 2 * window_.size() >= looked_at ? medianOf(window_) : sweep_median;
+    const float reference = 2 * window_.size() >= looked_at ? medianInPlace(window_) : sweep_median;
     const float threshold = ratio * reference;
     if (!(bright >= threshold))
       continue;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "ohm_mirror_detector3d/core/median.h"
 #include "ohm_mirror_detector3d/core/spatial_index.h"
 
 namespace ohm_mirror_detector3d
@@ -45,12 +46,6 @@ float angleBetween(const Eigen::Vector3f& a, const Eigen::Vector3f& b)
   return 2.0f * std::asin(0.5f * chord);
 }
 
-float median(std::vector<float>& values)
-{
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 }  // namespace
 
 Eigen::Vector3f SamplingEstimator::direction(std::size_t b) const
@@ -81,7 +76,7 @@ double SamplingEstimator::medianAngle(std::size_t offset, Usable usable)
     if (a.allFinite() && c.allFinite())
       angles_.push_back(angleBetween(a, c));
   }
-  return angles_.size() >= kMinPairs ? static_cast<double>(median(angles_)) : 0.0;
+  return angles_.size() >= kMinPairs ? static_cast<double>(medianInPlace(angles_)) : 0.0;
 }
 
 void SamplingEstimator::estimateGrid(std::size_t rows, std::size_t cols, bool folded)
@@ -112,7 +107,7 @@ void SamplingEstimator::estimateGrid(std::size_t rows, std::size_t cols, bool fo
       if (first.allFinite() && last.allFinite())
         angles_.push_back(angleBetween(first, last));
     }
-  s.wraps = angles_.size() >= 3 && median(angles_) <= kMaxWrapStepRatio * s.col_step;
+  s.wraps = angles_.size() >= 3 && medianInPlace(angles_) <= kMaxWrapStepRatio * s.col_step;
   // The first and the last row, one of them reversed: a 2D scanner turned half a rotation looks
   // along its first scan line again at its end, from the other side.
   angles_.clear();
@@ -124,7 +119,7 @@ void SamplingEstimator::estimateGrid(std::size_t rows, std::size_t cols, bool fo
       if (first.allFinite() && last.allFinite())
         angles_.push_back(angleBetween(first, last));
     }
-  s.flips_at_seam = angles_.size() >= 3 && median(angles_) <= kMaxWrapStepRatio * s.row_step;
+  s.flips_at_seam = angles_.size() >= 3 && medianInPlace(angles_) <= kMaxWrapStepRatio * s.row_step;
 }
 
 bool SamplingEstimator::foldAtPeriod(std::size_t beams)
@@ -156,9 +151,9 @@ bool SamplingEstimator::foldAtPeriod(std::size_t beams)
       angles_.push_back(angleBetween(d, across));
       cosines_.push_back(std::fabs(along_step.dot(across_step)) / norms);
     }
-    if (angles_.size() < kMinPairs || median(cosines_) >= kMaxPeriodCosine)
+    if (angles_.size() < kMinPairs || medianInPlace(cosines_) >= kMaxPeriodCosine)
       return;
-    const float angle = median(angles_);
+    const float angle = medianInPlace(angles_);
     if (angle < best_angle)
     {
       best_angle = angle;
@@ -238,7 +233,7 @@ double SamplingEstimator::nearestNeighbourAngle()
     if (std::isfinite(best))
       angles_.push_back(2.0f * std::asin(std::min(0.5f * std::sqrt(best), 1.0f)));
   }
-  return angles_.size() >= kMinPairs && 2 * angles_.size() >= seen ? static_cast<double>(median(angles_)) : 0.0;
+  return angles_.size() >= kMinPairs && 2 * angles_.size() >= seen ? static_cast<double>(medianInPlace(angles_)) : 0.0;
 }
 
 const SweepSampling& SamplingEstimator::estimate(const Sweep& sweep, const Eigen::Vector3f& sensor_origin)
