@@ -163,9 +163,12 @@ std::size_t SpecularSpots::apply(const Sweep& sweep, const SweepSampling& sampli
         if (state_[n] == 0 && brightness(n) >= threshold)
           take(n);
       });
-    bool keep = spot_.size() >= config_.min_points &&
-                      plausible(sweep, labels, sensor_origin, seed, std::max<std::size_t>(1, half_rows),
-                                std::max<std::size_t>(1, half_cols));
+    const std::optional<SpotPlane> plane =
+        spot_.size() >= config_.min_points ?
+            plausible(sweep, labels, sensor_origin, seed, std::max<std::size_t>(1, half_rows),
+                      std::max<std::size_t>(1, half_cols)) :
+            std::nullopt;
+    bool keep = plane.has_value();
     if (keep)
     {
       // The spot's rim: the single returns next to it on its plane. Only the brightest share of
@@ -182,7 +185,7 @@ std::size_t SpecularSpots::apply(const Sweep& sweep, const SweepSampling& sampli
                             labels.echoes[1][n] == Label::errorSurface;
           const Eigen::Vector3f& p = sweep.echoes[0].points[n];
           if (state_[n] == 0 && single(labels, n) && p.allFinite() &&
-              std::fabs(plane_normal_.dot(p.cast<double>() - plane_point_)) <= kMaxPlaneRms)
+              std::fabs(plane->normal.dot(p.cast<double>() - plane->point)) <= kMaxPlaneRms)
             take(n);
         });
       keep = !touches_surface;
@@ -220,8 +223,10 @@ std::size_t SpecularSpots::typeOpenSpots(std::vector<ReflectiveObject>& objects)
   return typed;
 }
 
-bool SpecularSpots::plausible(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
-                              std::size_t brightest, std::size_t band_rows, std::size_t band_cols)
+std::optional<SpecularSpots::SpotPlane> SpecularSpots::plausible(const Sweep& sweep, const SweepLabels& labels,
+                                                                 const Eigen::Vector3f& sensor_origin,
+                                                                 std::size_t brightest, std::size_t band_rows,
+                                                                 std::size_t band_cols) const
 {
   const std::vector<Eigen::Vector3f>& points = sweep.echoes[0].points;
   const std::size_t rows = sweep.rows;
@@ -246,13 +251,11 @@ bool SpecularSpots::plausible(const Sweep& sweep, const SweepLabels& labels, con
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
   const Eigen::Vector3d moments = solver.eigenvalues();  // ascending
   if (!(moments[1] >= kMinAspect * moments[2]) || !(moments[0] <= kMaxPlaneRms * kMaxPlaneRms))
-    return false;
+    return std::nullopt;
   const Eigen::Vector3d normal = solver.eigenvectors().col(0);
-  plane_point_ = mean;
-  plane_normal_ = normal;
   const Eigen::Vector3d beam = (points[brightest] - sensor_origin).cast<double>().normalized();
   if (!(std::fabs(normal.dot(beam)) >= std::cos(config_.max_incidence)))
-    return false;
+    return std::nullopt;
 
   // The band around the spot's box on the grid: rays that went through the plane, returning
   // nothing or from beyond it. (The spot's own dimmer returns around it, and the wall or frame
@@ -281,7 +284,9 @@ bool SpecularSpots::plausible(const Sweep& sweep, const SweepLabels& labels, con
       }
       open += !any || beyond ? 1 : 0;
     }
-  return band > 0 && static_cast<double>(open) >= config_.min_open_share * static_cast<double>(band);
+  if (!(band > 0 && static_cast<double>(open) >= config_.min_open_share * static_cast<double>(band)))
+    return std::nullopt;
+  return SpotPlane{ mean, normal };
 }
 
 }  // namespace core

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -75,10 +76,16 @@ public:
 private:
   // The beam's first echo is unchecked and the echo comparison left its second alone.
   static bool single(const SweepLabels& labels, std::size_t beam);
-  // The spot in spot_ is planar, head-on at its brightest return, and surrounded by rays that
-  // went through its plane.
-  bool plausible(const Sweep& sweep, const SweepLabels& labels, const Eigen::Vector3f& sensor_origin,
-                 std::size_t brightest, std::size_t band_rows, std::size_t band_cols);
+  struct SpotPlane
+  {
+    Eigen::Vector3d point;
+    Eigen::Vector3d normal;
+  };
+  // The plane of the spot in spot_ when the spot is planar, head-on at its brightest return, and
+  // surrounded by rays that went through that plane; nothing otherwise.
+  std::optional<SpotPlane> plausible(const Sweep& sweep, const SweepLabels& labels,
+                                     const Eigen::Vector3f& sensor_origin, std::size_t brightest,
+                                     std::size_t band_rows, std::size_t band_cols) const;
 
   SpecularSpotConfig config_;
   std::vector<float> window_;          // scratch for medians
@@ -86,9 +93,6 @@ private:
   std::vector<std::uint8_t> in_spot_;  // per beam: its first echo was labelled by a spot
   std::vector<std::uint32_t> touched_; // the beams whose state_ (and in_spot_) this sweep set
   std::vector<std::uint32_t> spot_;    // the current spot's beams
-  // The current spot's plane (plausible() fits it).
-  Eigen::Vector3d plane_point_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d plane_normal_ = Eigen::Vector3d::UnitZ();
 };
 
 }  // namespace core
