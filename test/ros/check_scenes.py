@@ -26,6 +26,9 @@ from ohm_mirror_detector3d.ros_io import filter_output_from_msgs, ground_truth_o
 from ohm_mirror_detector3d.scanner import RotatingHokuyo
 from ohm_mirror_detector3d.simulate import simulate_sweep
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from output_client import wait_until_connected  # noqa: E402
+
 MIRROR, GLASS, UNKNOWN = 1, 2, 0
 TYPE_NAMES = {UNKNOWN: 'unknown', MIRROR: 'mirror', GLASS: 'glass'}
 # Pinned to the ideal physics (glass never reflects, no mixed pixels) until the filter work of
@@ -58,12 +61,7 @@ class FilterClient:
         stamp = rospy.Time.now()
         messages = sweep_to_messages(sweep, stamp)
         deadline = rospy.Time.now() + rospy.Duration(timeout)
-        # The pre-filter subscribes lazily: wait until it listens before sending the sweep, and until
-        # each of its outputs reaches us (an output published before its connection is up is lost:
-        # a fresh clone's growth_scenes once got experiment3's labelled, objects and markers only).
-        while (self.publisher.get_num_connections() == 0 or
-               any(s.get_num_connections() == 0 for s in self.subscribers)) and rospy.Time.now() < deadline:
-            rospy.sleep(0.1)
+        wait_until_connected(self.publisher, self.subscribers, deadline)
         self.publisher.publish(messages['echo_pair'])
         while len(self.outputs.get(stamp, {})) < 4 and rospy.Time.now() < deadline:
             rospy.sleep(0.05)

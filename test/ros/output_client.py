@@ -8,6 +8,15 @@ from ohm_mirror_detector3d.msg import ReflectiveObjectArray
 OUTPUT_TYPES = {'labelled': PointCloud2, 'cleaned': PointCloud2, 'objects': ReflectiveObjectArray}
 
 
+def wait_until_connected(publisher, subscribers, deadline):
+    """Until the pre-filter listens to `publisher` and each of its outputs reaches `subscribers` (it
+    subscribes lazily, and an output published before its connection is up is lost: a fresh clone's
+    growth_scenes once got experiment3's labelled, objects and markers only), or `deadline`."""
+    while (publisher.get_num_connections() == 0 or
+           any(s.get_num_connections() == 0 for s in subscribers)) and rospy.Time.now() < deadline:
+        rospy.sleep(0.1)
+
+
 class OutputClient:
     def __init__(self, input_topic, input_type, outputs=('labelled', 'cleaned', 'objects')):
         self.wanted = tuple(outputs)
@@ -23,11 +32,7 @@ class OutputClient:
         """The outputs {topic: message} answering `message` (matched by `stamp`, default its header's)."""
         stamp = stamp if stamp is not None else message.header.stamp
         deadline = rospy.Time.now() + rospy.Duration(timeout)
-        # Until the pre-filter listens and each of its outputs reaches us (an output published before
-        # its connection is up is lost).
-        while (self.publisher.get_num_connections() == 0 or
-               any(s.get_num_connections() == 0 for s in self.subscribers)) and rospy.Time.now() < deadline:
-            rospy.sleep(0.1)
+        wait_until_connected(self.publisher, self.subscribers, deadline)
         self.publisher.publish(message)
         while len(self.received.get(stamp, {})) < len(self.wanted) and rospy.Time.now() < deadline:
             rospy.sleep(0.05)
