@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/merged_echoes.h"
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
 #include "ohm_mirror_detector3d/core/parallel.h"
 #include "ohm_mirror_detector3d/core/real_scene.h"
@@ -385,6 +386,8 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
     b.sample_intensity.push_back(b.all_intensity[i]);
   }
   const double weight = static_cast<double>(total) / static_cast<double>(samples);
+  // NaN (nothing seen through the inside) compares false.
+  const bool merging_surface = result.surface_backed_share >= kMergingSurfaceBackedShare;
   auto testSample = [&]() {
     b.tests.resize(samples);
     for (std::size_t s = 0; s < samples; ++s)
@@ -395,6 +398,16 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
       // nothing seen through.
       if (b.tests[s].outcome == ReflectionOutcome::transmitted &&
           -object.signedDistance(b.sample[s]) < kMergedEchoReach * evidence.echoSeparation())
+        b.tests[s].outcome = ReflectionOutcome::noReturn;
+      // Seen through only as measured: as likely a mirror's merged echo (merged_echoes.h).
+      // Measured on make evaluate: the 32-ring lidar's types right 108 -> 109 of 123, its
+      // double-echo phantoms at a wrong place 27.1 -> 23.7 %, the other families within 0.01 %;
+      // on random scenes 30000-30024 and 31000-31024 no type changed. (Labelling such points
+      // behind a mirror its phantoms in the cone labelling too put 1500 more phantoms in place
+      // on make evaluate, but displaced 650 real points there and 600 on those held-out scenes
+      // for none: not done.)
+      if (b.tests[s].outcome == ReflectionOutcome::transmitted && merging_surface &&
+          mayBeMergedReflection(evidence, object, b.sample[s]))
         b.tests[s].outcome = ReflectionOutcome::noReturn;
     }
   };

@@ -944,6 +944,41 @@ TEST(MergedEchoes, APointInFrontOfThePlaneHoldsNoMergedReflection)
   EXPECT_FALSE(core::mergedReflection(evidence, pane, Eigen::Vector3f(1.5f, 0.9f, 0.0f)).allFinite());
 }
 
+TEST(MergedEchoes, AnEchoSeenThroughOnlyAsMeasuredMayBeAMirrorsMergedEcho)
+{
+  // The pane at x = 2 as a mirror that returns its surface echo everywhere: merged with the
+  // pillar's reflection, each echo lies 0.15 m short of it (the reflection outshines the surface
+  // echo). Those that land beside the pillar as measured (seen through, by their own test) are no
+  // longer seen through once moved a tenth to a third of their depth along their beams: they may
+  // be merged echoes.
+  const MergedEchoes scene = mergedEchoesBehindAPane(0.15f, 900.0f);
+  core::SweepLabels labels;
+  labels.reset(scene.sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(scene.sweep, labels, Eigen::Vector3f::Zero());
+  ASSERT_NEAR(evidence.echoSeparation(), 0.9f, 0.01f);
+  const core::ReflectiveObject mirror = wallObject(2.0f, 3.0f, 1.0f, ObjectType::mirror);
+  std::size_t seen_through = 0, merged = 0;
+  for (const auto& beam_and_real : scene.real)
+  {
+    const Eigen::Vector3f& p = scene.sweep.echoes[0].points[beam_and_real.first];
+    if (evidence.test(mirror.plane, p, mirror.landing_tolerance).outcome != core::ReflectionOutcome::transmitted)
+      continue;
+    ++seen_through;
+    merged += core::mayBeMergedReflection(evidence, mirror, p) ? 1 : 0;
+  }
+  ASSERT_GE(seen_through, 5u);
+  EXPECT_GE(merged, seen_through * 9 / 10) << merged << " of " << seen_through;
+
+  // Seen through and still seen through when moved: 0.4 m behind the pane, reflected into the
+  // open room beside the pillar (y = -0.4), or 1.2 m behind it, beyond the echo separation.
+  for (const Eigen::Vector3f& p : { Eigen::Vector3f(2.4f, -0.4f, 0.0f), Eigen::Vector3f(3.2f, -0.4f, 0.0f) })
+  {
+    ASSERT_EQ(evidence.test(mirror.plane, p, mirror.landing_tolerance).outcome, core::ReflectionOutcome::transmitted);
+    EXPECT_FALSE(core::mayBeMergedReflection(evidence, mirror, p)) << p.transpose();
+  }
+}
+
 TEST(ConeLabelling, APointSeenThroughAPaneAsBrightAsTheRestStaysWhereItWasMeasured)
 {
   // The same echoes as bright as what is seen through the pane: real points just behind it,

@@ -35,5 +35,20 @@ Eigen::Vector3f mergedReflection(const ReflectionEvidence& evidence, const Refle
 Eigen::Vector3f mergedLanding(const ReflectionEvidence& evidence, const ReflectiveObject& object,
                               const Eigen::Vector3f& p, const ReflectionTest& measured);
 
+// An object that returned a surface echo on the beams of at least this share of its points behind
+// (TypeEvidence::surface_backed_share) returns one wherever it is seen: a mirror or shiny metal,
+// or a pane seen head-on. Only there may a single echo just behind it be its surface echo merged
+// with a reflection (mayBeMergedReflection); a pane seen at an angle returns none to merge with.
+constexpr float kMergingSurfaceBackedShare = 0.5f;
+
+// Whether point p behind `object`, seen through it by its own test (ReflectionOutcome::transmitted),
+// may be a merged echo of a surface that returns echoes everywhere (kMergingSurfaceBackedShare)
+// and a reflection that outshines it (a mirror's: the echo lies short of the reflection by a tenth
+// or so of its distance behind the plane, see mayBeMergedReflection in merged_echoes.cpp): within
+// the echo separation behind the plane, and no longer seen through once moved that little along
+// its beam (it lands on seen geometry, or behind it). False without an echo separation.
+bool mayBeMergedReflection(const ReflectionEvidence& evidence, const ReflectiveObject& object,
+                           const Eigen::Vector3f& p);
+
 }  // namespace core
 }  // namespace ohm_mirror_detector3d
