@@ -549,6 +549,30 @@ bool ReflectionEvidence::pathPiercesSeenSurface(const Eigen::Vector3f& from, con
   return at_c.one_surface && std::fabs(at_c.seen - range) <= tol;
 }
 
+bool ReflectionEvidence::landsClear(const Eigen::Vector4f& plane, const Eigen::Vector3f& p, float beyond) const
+{
+  if (step_ == 0.0f || index_.pointCount() == 0)
+    return false;
+  const Eigen::Vector3f normal = plane.head<3>();
+  const Eigen::Vector3f q = p - 2.0f * (normal.dot(p) + plane[3]) * normal - origin_;
+  const float range = q.norm();
+  if (!(range > 0.0f))
+    return false;
+  const Eigen::Vector3f unit = q / range;
+  const float squared_tangent = std::tan(radius_) * std::tan(radius_);
+  const float limit = (range + beyond) * (range + beyond);
+  bool clear = true;
+  forEachNear(q, unit, radius_, 0, [&](const Eigen::Vector3f& x, std::size_t j) {
+    if (!clear || squared_ranges_[j] >= limit)
+      return;
+    const float depth = x.dot(unit);
+    if (depth > 0.0f && (x - depth * unit).squaredNorm() <= squared_tangent * depth * depth &&
+        normal.dot(x + origin_) + plane[3] > beyond)
+      clear = false;
+  });
+  return clear;
+}
+
 ReflectionTest ReflectionEvidence::test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p,
                                         const LandingTolerance& tolerance, const ReflectionTestOptions& options) const
 {

@@ -375,6 +375,44 @@ TEST(ObjectType, AMirrorsMergedEchoesLandingBesideWhatTheyShowDoNotMakeItGlass)
   EXPECT_EQ(mirrorWithMergedPosts(0.0f).type, ObjectType::mirror);
 }
 
+// A mirror at x = 2 showing the wall at x = -1 (double echoes: its surface echo and the phantom
+// at x = 5) and thin posts 0.6 m in front of it (x = 1.4, 2 cm wide, 10 cm apart, seen
+// directly), whose phantoms (double echoes too) lie `aside` [m] off in y from the posts'
+// reflections, as a plane tilted by a fraction of a degree or a merged echo would put them.
+core::ReflectiveObject mirrorWithPostPhantomsAside(float aside)
+{
+  Scene scene;
+  scene.addRealWall(-1.0f, 1.5f);
+  scene.addDoubleEchoesSeeing(5.0f);
+  for (float post = -0.5f; post < 0.45f; post += 0.1f)
+    for (float y = post; y <= post + 0.02f; y += 0.0075f)
+      for (float z = -1.0f; z <= 1.0f; z += 0.01f)
+      {
+        scene.addSingleReturn(Eigen::Vector3f(1.4f, y, z));
+        scene.addDoubleEcho(Eigen::Vector3f(2.6f, y + aside, z));
+      }
+  core::ReflectiveObject object = objectAtTwoMetres();
+  scene.analyze(object);
+  return object;
+}
+
+TEST(ObjectType, PhantomsLandingJustBesideWhatTheyShowDoNotMakeAMirrorGlass)
+{
+  // 2.5 cm aside, the posts' phantoms land beside the posts as the sensor sees them, where it saw
+  // the mirror further away: seen through, by their own test, and enough of them to make the
+  // mirror glass. The posts lie within the test's window around where they land: no proof of
+  // free space there, and they are not counted.
+  const core::ReflectiveObject mirror = mirrorWithPostPhantomsAside(0.025f);
+  EXPECT_EQ(mirror.type, ObjectType::mirror);
+  EXPECT_LT(mirror.evidence.real_fraction, 0.1f);
+  // Where they belong they are phantoms of the posts.
+  EXPECT_EQ(mirrorWithPostPhantomsAside(0.0f).type, ObjectType::mirror);
+  // 5 cm aside, midway between two posts, they land clear of them and are seen through: glass
+  // (a pane with thin things behind it, whose surface echoes came back everywhere).
+  const core::ReflectiveObject pane = mirrorWithPostPhantomsAside(0.05f);
+  EXPECT_EQ(pane.type, ObjectType::glass);
+}
+
 TEST(ObjectType, TheShareOfPointsBehindWithASurfaceEchoInFrontLeavesMergedEchoesOut)
 {
   // Every double echo through the inside has its surface echo on the plane; the single echoes

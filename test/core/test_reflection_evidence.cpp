@@ -74,6 +74,32 @@ TEST(ReflectionEvidence, APointWhereTheSensorSawFurtherIsSeenThrough)
   EXPECT_GT(test.range_difference, 1.5f);
 }
 
+// A post at x = `post_x` (where `post` says: |z| <= 0.5 and a band of y) before a wall at x = -3.
+core::Sweep postBeforeAFarWall(float post_x, bool (*post)(const Eigen::Vector3f&))
+{
+  return rangeImage({ { 0, -3.0f, everywhere }, { 0, post_x, post } });
+}
+
+TEST(ReflectionEvidence, APointLandsClearOnlyWithNothingSeenAtItsRangeInTheWindowAroundIt)
+{
+  // Reflected, the point lands at (-1, 0.4, 0.3), where the sensor saw the wall at x = -3.
+  EXPECT_TRUE(evidenceOf(rangeImage({ { 0, -3.0f, everywhere } })).landsClear(kPlane, kBehind, 0.1f));
+  // A post 1.5 cm beside where it lands, at its range (within the test's window of 1.25 degrees):
+  // where the point lands is no proof of free space.
+  EXPECT_FALSE(evidenceOf(postBeforeAFarWall(-1.0f, [](const Eigen::Vector3f& x) {
+                 return x.y() > 0.415f && x.y() < 0.44f && std::fabs(x.z()) < 0.5f;
+               })).landsClear(kPlane, kBehind, 0.1f));
+  // The same post 5 degrees away, or 0.3 m further than where the point lands: clear.
+  EXPECT_TRUE(evidenceOf(postBeforeAFarWall(-1.0f, [](const Eigen::Vector3f& x) {
+                return x.y() > 0.5f && x.y() < 0.55f && std::fabs(x.z()) < 0.5f;
+              })).landsClear(kPlane, kBehind, 0.1f));
+  EXPECT_TRUE(evidenceOf(postBeforeAFarWall(-1.3f, [](const Eigen::Vector3f& x) {
+                return x.y() > 0.54f && x.y() < 0.57f && std::fabs(x.z()) < 0.7f;
+              })).landsClear(kPlane, kBehind, 0.1f));
+  // No index, no proof.
+  EXPECT_FALSE(evidenceOf(rangeImage(std::vector<Wall>())).landsClear(kPlane, kBehind, 0.1f));
+}
+
 TEST(ReflectionEvidence, APointHiddenFromTheSensorButNotFromThePlaneCannotBeTold)
 {
   // A box face at x = -0.5 (0.2 x 0.2 m) hides where the point lands on the wall at x = -1, but

@@ -124,6 +124,12 @@ public:
   ReflectionTest test(const Eigen::Vector4f& plane, const Eigen::Vector3f& p, const LandingTolerance& tolerance,
                       const ReflectionTestOptions& options = ReflectionTestOptions()) const;
 
+  // Whether point p behind `plane`, reflected across it to q, lands clear of everything the
+  // sensor saw in front of the plane: no return in the test's window around q's direction (not
+  // only the nearest on each side, which the test compares) that lies more than `beyond` in front
+  // of the plane is nearer than q's range plus `beyond`. False without an index.
+  bool landsClear(const Eigen::Vector4f& plane, const Eigen::Vector3f& p, float beyond) const;
+
 private:
   static constexpr std::size_t kMaxCandidates = 128;
   // A return in the window around a direction, in the direction's tangent basis (a, b: offsets
