@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "ohm_mirror_detector3d/core/reflection_evidence.h"
 #include "ohm_mirror_detector3d/core/sweep.h"
 
 namespace ohm_mirror_detector3d
@@ -125,6 +126,17 @@ inline core::Sweep rangeImage(const std::vector<Wall>& walls)
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kInf = std::numeric_limits<float>::infinity();
+
+// The reflection evidence of a sweep whose echoes are all unchecked (before the echo comparison),
+// seen from the origin.
+inline core::ReflectionEvidence evidenceOf(const core::Sweep& sweep)
+{
+  core::SweepLabels labels;
+  labels.reset(sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
+  return evidence;
+}
 
 }  // namespace test
 }  // namespace ohm_mirror_detector3d

@@ -933,10 +933,7 @@ TEST(MergedEchoes, APointInFrontOfThePlaneHoldsNoMergedReflection)
   // tolerance that grows with the depth behind the plane, the search for the reflection stepped
   // by a negative tolerance and never ended; now there is none to find.
   const MergedEchoes scene = mergedEchoesBehindAPane(0.2f, 20.0f);
-  core::SweepLabels labels;
-  labels.reset(scene.sweep.beamCount());
-  core::ReflectionEvidence evidence;
-  evidence.build(scene.sweep, labels, Eigen::Vector3f::Zero());
+  const core::ReflectionEvidence evidence = test::evidenceOf(scene.sweep);
   ASSERT_GT(evidence.echoSeparation(), 0.0f);
   core::ReflectiveObject pane = wallObject(2.0f, 3.0f, 1.0f, ObjectType::glass);
   pane.landing_tolerance.per_behind = 0.05f;
@@ -952,10 +949,7 @@ TEST(MergedEchoes, AnEchoSeenThroughOnlyAsMeasuredMayBeAMirrorsMergedEcho)
   // longer seen through once moved a tenth to a third of their depth along their beams: they may
   // be merged echoes.
   const MergedEchoes scene = mergedEchoesBehindAPane(0.15f, 900.0f);
-  core::SweepLabels labels;
-  labels.reset(scene.sweep.beamCount());
-  core::ReflectionEvidence evidence;
-  evidence.build(scene.sweep, labels, Eigen::Vector3f::Zero());
+  const core::ReflectionEvidence evidence = test::evidenceOf(scene.sweep);
   ASSERT_NEAR(evidence.echoSeparation(), 0.9f, 0.01f);
   const core::ReflectiveObject mirror = wallObject(2.0f, 3.0f, 1.0f, ObjectType::mirror);
   std::size_t seen_through = 0, merged = 0;

@@ -336,28 +336,38 @@ TEST(ObjectType, MergedEchoesJustBehindShinyMetalDoNotMakeItGlass)
 }
 
 // A mirror at x = 2 showing the wall at x = -1 (double echoes: its surface echo and the phantom
-// at x = 5), a sensor that resolves two echoes 0.9 m apart, and thin posts 0.6 m in front of the
-// mirror (x = 1.4, 2 cm wide, 10 cm apart, seen directly). The posts' reflections lie 0.6 m
-// behind the mirror, within the separation: each comes back as one echo merged with the mirror's
-// surface echo, `shortfall` of its depth short of the reflection along the beam.
-core::ReflectiveObject mirrorWithMergedPosts(float shortfall)
+// at x = 5) and thin posts 0.6 m in front of it (x = 1.4, 2 cm wide, 10 cm apart, |z| <= 1, seen
+// directly), with mixed pixels showing an echo separation of 0.9 m when `mixed_pixels`.
+// add_phantom(scene, r) adds the echoes a post point's reflection r (at x = 2.6) comes back as.
+template <typename AddPhantom>
+core::ReflectiveObject mirrorWithPosts(bool mixed_pixels, AddPhantom add_phantom)
 {
   Scene scene;
   scene.addRealWall(-1.0f, 1.5f);
   scene.addDoubleEchoesSeeing(5.0f);
-  scene.addMixedPixels(150, 0.9f);
+  if (mixed_pixels)
+    scene.addMixedPixels(150, 0.9f);
   for (float post = -0.5f; post < 0.45f; post += 0.1f)
     for (float y = post; y <= post + 0.02f; y += 0.0075f)
       for (float z = -1.0f; z <= 1.0f; z += 0.01f)
       {
         scene.addSingleReturn(Eigen::Vector3f(1.4f, y, z));
-        const Eigen::Vector3f reflection(2.6f, y, z);
-        const Eigen::Vector3f crossing = reflection * (2.0f / 2.6f);
-        scene.addSingleReturn(crossing + (1.0f - shortfall) * (reflection - crossing));
+        add_phantom(scene, Eigen::Vector3f(2.6f, y, z));
       }
   core::ReflectiveObject object = objectAtTwoMetres();
   scene.analyze(object);
   return object;
+}
+
+// The posts' reflections lie 0.6 m behind the mirror, within the separation: each comes back as
+// one echo merged with the mirror's surface echo, `shortfall` of its depth short of the
+// reflection along the beam.
+core::ReflectiveObject mirrorWithMergedPosts(float shortfall)
+{
+  return mirrorWithPosts(true, [shortfall](Scene& scene, const Eigen::Vector3f& reflection) {
+    const Eigen::Vector3f crossing = reflection * (2.0f / 2.6f);
+    scene.addSingleReturn(crossing + (1.0f - shortfall) * (reflection - crossing));
+  });
 }
 
 TEST(ObjectType, AMirrorsMergedEchoesLandingBesideWhatTheyShowDoNotMakeItGlass)
@@ -375,25 +385,14 @@ TEST(ObjectType, AMirrorsMergedEchoesLandingBesideWhatTheyShowDoNotMakeItGlass)
   EXPECT_EQ(mirrorWithMergedPosts(0.0f).type, ObjectType::mirror);
 }
 
-// A mirror at x = 2 showing the wall at x = -1 (double echoes: its surface echo and the phantom
-// at x = 5) and thin posts 0.6 m in front of it (x = 1.4, 2 cm wide, 10 cm apart, seen
-// directly), whose phantoms (double echoes too) lie `aside` [m] off in y from the posts'
-// reflections, as a plane tilted by a fraction of a degree or a merged echo would put them.
+// The posts' phantoms (double echoes: the mirror's surface echo and the phantom) lie `aside` [m]
+// off in y from their reflections, as a plane tilted by a fraction of a degree or a merged echo
+// would put them.
 core::ReflectiveObject mirrorWithPostPhantomsAside(float aside)
 {
-  Scene scene;
-  scene.addRealWall(-1.0f, 1.5f);
-  scene.addDoubleEchoesSeeing(5.0f);
-  for (float post = -0.5f; post < 0.45f; post += 0.1f)
-    for (float y = post; y <= post + 0.02f; y += 0.0075f)
-      for (float z = -1.0f; z <= 1.0f; z += 0.01f)
-      {
-        scene.addSingleReturn(Eigen::Vector3f(1.4f, y, z));
-        scene.addDoubleEcho(Eigen::Vector3f(2.6f, y + aside, z));
-      }
-  core::ReflectiveObject object = objectAtTwoMetres();
-  scene.analyze(object);
-  return object;
+  return mirrorWithPosts(false, [aside](Scene& scene, const Eigen::Vector3f& reflection) {
+    scene.addDoubleEcho(reflection + Eigen::Vector3f(0.0f, aside, 0.0f));
+  });
 }
 
 TEST(ObjectType, PhantomsLandingJustBesideWhatTheyShowDoNotMakeAMirrorGlass)

@@ -14,19 +14,11 @@ namespace
 using core::ReflectionOutcome;
 
 using test::everywhere;
+using test::evidenceOf;
 using test::rangeImage;
 using test::Wall;
 
 constexpr float kDegree = static_cast<float>(M_PI) / 180.0f;
-
-core::ReflectionEvidence evidenceOf(const core::Sweep& sweep)
-{
-  core::SweepLabels labels;
-  labels.reset(sweep.beamCount());
-  core::ReflectionEvidence evidence;
-  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
-  return evidence;
-}
 
 // A surface in the plane x = 2, facing the sensor at the origin.
 const Eigen::Vector4f kPlane(-1.0f, 0.0f, 0.0f, 2.0f);
