@@ -407,7 +407,7 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
       // evaluate, types right 90 -> 93 of 103 (128-ring lidar: two metal panels and a mirror
       // 1.4 m away whose phantoms of a chair landed 3.7 cm off its edge) and 109 -> 110 of 123
       // (32-ring), the other families unchanged; on random scenes 30000-30024, 31000-31024 and
-      // 32000-32024 (all families) 9 objects typed right more and 1 less (a 58-echo sliver of a
+      // 32000-32024 (all families) 8 objects typed right more and 1 less (a 58-echo sliver of a
       // pane, left unknown), double-echo phantoms at a wrong place down by up to 7 points
       // (rotating Hokuyo on 32000-32024: 26.9 -> 19.7 %), real points displaced within 200 a
       // family. Applied to every object, a glass wall 0.56 m from the 32-ring lidar (make
