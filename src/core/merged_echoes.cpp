@@ -59,6 +59,7 @@ namespace
 struct MergeReach
 {
   Eigen::Vector3f along = Eigen::Vector3f::Zero();
+  float behind = 0.0f;   // [m] p's distance behind the plane, along the beam
   float reach = 0.0f;    // [m] along the beam
   float step = 0.0f;     // [m]
   float longest = 0.0f;  // the farthest shift tried: the estimated separation may fall a little
@@ -71,7 +72,7 @@ struct MergeReach
     const Eigen::Vector3f& origin = evidence.sensorOrigin();
     const Eigen::Vector3f ray = p - origin;
     const float range = ray.norm();
-    const float behind = range - (object.rayCrossing(origin, p) - origin).norm();
+    behind = range - (object.rayCrossing(origin, p) - origin).norm();
     reach = separation - behind;
     // A point in front of the plane holds no reflection in it; and the search below steps by the
     // landing tolerance, which must be positive (with a per_behind share, a point far in front of
@@ -172,10 +173,10 @@ bool mayBeMergedReflection(const ReflectionEvidence& evidence, const ReflectiveO
   const MergeReach reach(evidence, object, p);
   if (!reach.usable)
     return false;
-  const float behind = evidence.echoSeparation() - reach.reach;
   for (float factor : kMergeUndoFactors)
   {
-    const ReflectionOutcome outcome = plainTest(evidence, object, p + (factor - 1.0f) * behind * reach.along).outcome;
+    const ReflectionOutcome outcome =
+        plainTest(evidence, object, p + (factor - 1.0f) * reach.behind * reach.along).outcome;
     if (outcome == ReflectionOutcome::phantom || outcome == ReflectionOutcome::ambiguous ||
         outcome == ReflectionOutcome::occluded)
       return true;
