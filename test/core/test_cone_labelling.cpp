@@ -373,6 +373,62 @@ TEST(ConeLabelling, BehindGlassAPointTwentyTimesFainterThanWhatIsSeenThroughIsAR
         seen_through);
 }
 
+// A pane at x = 2 whose sampled points told no brightness (its evidence's are NaN). Behind it,
+// where y > 0, faint reflections at x = 5 (brightness 5): reflected they land at x = -1, on the
+// wall behind the sensor where z < 0 (their own test: phantom) and where nothing was seen above
+// it (no return). Where y <= 0, bright points seen through at x = 3.5 (brightness 900): reflected
+// to x = 0.5, where the sensor saw further (transmitted) below z = 0, nothing above.
+core::Sweep faintReflectionsAndBrightPointsBehindAPane()
+{
+  core::Sweep sweep = test::rangeImage({ { 0, -1.0f, [](const Eigen::Vector3f& x) { return x.z() < 0.0f; } },
+                                         { 0, 5.0f, [](const Eigen::Vector3f& x) { return x.y() > 0.0f; } },
+                                         { 0, 3.5f, [](const Eigen::Vector3f& x) { return x.y() <= 0.0f; } } });
+  sweep.has_intensity = true;
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
+    }
+  return sweep;
+}
+
+TEST(ConeLabelling, BehindAPaneWhoseSampleToldNoBrightnessWhatItsConeToldTellsThePointsWithoutEvidence)
+{
+  const core::Sweep sweep = faintReflectionsAndBrightPointsBehindAPane();
+  // Well above z = 0, where no reflection lands on anything seen: no evidence of their own.
+  const auto withoutEvidence = [](const Eigen::Vector3f& p) { return p.z() > 0.1f * p.norm(); };
+  for (const bool sample_told : { false, true })
+  {
+    core::ReflectiveObject glass = wallObject(2.0f, 1.0f, 0.6f, ObjectType::glass);
+    if (sample_told)
+    {
+      // A sample that told: what was seen through it no brighter than its phantoms (no contrast).
+      glass.evidence.phantom_brightness = 50.0f;
+      glass.evidence.transmitted_brightness = 50.0f;
+    }
+    std::vector<core::ReflectiveObject> objects{ glass };
+    const Labelled out = label(sweep, objects);
+    std::size_t faint_without = 0, bright_without = 0;
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      const Eigen::Vector3f& p = sweep.echoes[0].points[i];
+      if (out.assignment.echoes[0][i] != 0 || !withoutEvidence(p))
+        continue;
+      const bool faint = p.y() > 0.0f;
+      // The cone's reference only where the sample gave none: the sample's is not second-guessed.
+      const Label expected = faint && !sample_told ? Label::behindReflective : Label::behindTransparent;
+      EXPECT_EQ(out.labels.echoes[0][i], expected) << "sample told: " << sample_told << " at " << p.transpose();
+      (faint ? faint_without : bright_without) += 1;
+    }
+    EXPECT_GT(faint_without, 20u);
+    EXPECT_GT(bright_without, 20u);
+    // The points that told, by their own test.
+    EXPECT_GT(objects[0].phantom_points, 20u);
+    EXPECT_GT(objects[0].transmitted_points, 20u);
+  }
+}
+
 TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsAPointAsBrightAsWhatIsSeenThroughIsReal)
 {
   // The pane typed glass by its faint phantoms where the geometry said mirror: its points without
