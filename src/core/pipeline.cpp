@@ -2,6 +2,7 @@
 
 #include "ohm_mirror_detector3d/core/glass_growth.h"
 #include "ohm_mirror_detector3d/core/grown_pane_refinement.h"
+#include "ohm_mirror_detector3d/core/shared_normals.h"
 #include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/mirror_growth.h"
 #include "ohm_mirror_detector3d/core/phantom_planes.h"
@@ -94,6 +95,9 @@ std::vector<std::unique_ptr<ObjectStage>> parameterStages(const StageConfigs& co
       stages.push_back(std::make_unique<PhantomPlanes>(grown_panes));
     }
   }
+  // Last before the map: every plane as the sweep's own stages left it, the map fed the shared one.
+  if (configs.shared_normals.enabled)
+    stages.push_back(std::make_unique<SharedNormals>(configs.shared_normals));
   if (configs.object_map.enabled)
     stages.push_back(std::make_unique<PostFilter>(object_map));
   return stages;

@@ -70,6 +70,8 @@ StageConfigs stageConfigs(const Params& params)
   configs.cone_labelling = ConeLabellingConfig{ params.plane_threshold, params.vision_cone_margin };
   configs.phantom_planes.enabled = params.phantom_plane_share > 0.0;
   configs.phantom_planes.min_share = static_cast<float>(params.phantom_plane_share);
+  configs.shared_normals.enabled = params.shared_normal_angle > 0.0;
+  configs.shared_normals.min_cosine = static_cast<float>(std::cos(params.shared_normal_angle * M_PI / 180.0));
   configs.growth.panes = params.grow_objects >= 1;
   configs.growth.mirrors = params.grow_objects == 1;
   configs.growth.plane_threshold = static_cast<float>(params.plane_threshold);

@@ -74,7 +74,7 @@ TEST(ParamTable, PipelineRowsAreTheFieldsOfParamsWithTheirDefaults)
     EXPECT_NE(std::string(param.label), "");
     EXPECT_TRUE(param.lower.present) << "every pipeline parameter has a lower bound";
   }
-  EXPECT_EQ(pipeline_rows, 36u);
+  EXPECT_EQ(pipeline_rows, 37u);
   EXPECT_TRUE(defaults.validate().empty());
 }
 

@@ -120,6 +120,8 @@ TEST(StageConfigs, EveryPipelineParameterReachesSomeStage)
         after.cone_labelling.cone_margin != before.cone_labelling.cone_margin ||
         after.phantom_planes.enabled != before.phantom_planes.enabled ||
         after.phantom_planes.min_share != before.phantom_planes.min_share ||
+        after.shared_normals.enabled != before.shared_normals.enabled ||
+        after.shared_normals.min_cosine != before.shared_normals.min_cosine ||
         after.growth.panes != before.growth.panes ||
         after.growth.mirrors != before.growth.mirrors || after.growth.max_growth != before.growth.max_growth ||
         after.reflection_chains.max_reflections != before.reflection_chains.max_reflections ||

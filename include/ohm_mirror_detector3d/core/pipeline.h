@@ -4,8 +4,9 @@
 //     (the objects and why);
 //   object stages: an ordered list of optional stages on whole objects (object_stage.h): first
 //     those the parameters switch on (phantom_plane_share: phantom_planes.h; grow_objects:
-//     glass_growth.h, and mirror_growth.h with 1), built here from Params for every front end alike, then
-//     any added with addObjectStage;
+//     glass_growth.h, and mirror_growth.h with 1; shared_normal_angle: shared_normals.h;
+//     post_filter: post_filter.h), built here from Params for every front end alike, then any
+//     added with addObjectStage;
 //   label: cone labelling, reflection chains (where each phantom really is, reflection_chains.h),
 //     cleaned output with back-projection.
 // The stages are built from Params (stage_configs.h), each with only its own values; the

@@ -20,6 +20,7 @@
 #include "ohm_mirror_detector3d/core/phantom_planes.h"
 #include "ohm_mirror_detector3d/core/range_gate.h"
 #include "ohm_mirror_detector3d/core/reflection_chains.h"
+#include "ohm_mirror_detector3d/core/shared_normals.h"
 #include "ohm_mirror_detector3d/core/specular_spots.h"
 
 namespace ohm_mirror_detector3d
@@ -37,6 +38,7 @@ struct StageConfigs
   ObjectTypeConfig object_type;
   ConeLabellingConfig cone_labelling;
   PhantomPlaneConfig phantom_planes;
+  SharedNormalConfig shared_normals;
   ObjectGrowthConfig growth;  // mirror_growth.h and glass_growth.h
   ReflectionChainConfig reflection_chains;
   ObjectMapConfig object_map;  // post_filter.h
