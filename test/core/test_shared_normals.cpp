@@ -74,11 +74,25 @@ float angleBetween(const Eigen::Vector4f& a, const Eigen::Vector4f& b)
 
 const auto kWallAt3 = [](float, float) { return 3.0f; };
 
+// The wall x = 3 as the tests see it: a pane of 600 echoes in it, its plane right.
+void addLargePane(Wall& wall)
+{
+  wall.add(0.2f, 1.4f, 30, 20, kWallAt3, wallPlane(3.0f));
+}
+
+// Beside it a pane of 40 echoes whose echoes themselves are turned by `degrees` about the
+// vertical through y = -0.4 (x grows with y), its plane fitted to them.
+void addTurnedSmallPane(Wall& wall, float degrees)
+{
+  const float slope = std::tan(degrees * kDegree);
+  wall.add(-0.6f, -0.2f, 5, 8, [slope](float y, float) { return 3.0f + slope * (y + 0.4f); },
+           wallPlane(3.0f, degrees * kDegree));
+}
+
 TEST(SharedNormals, ASmallPaneTakesTheNormalOfTheLargerPaneInItsWall)
 {
   Wall wall;
-  // A pane of 600 echoes in the wall x = 3, its plane right.
-  wall.add(0.2f, 1.4f, 30, 20, kWallAt3, wallPlane(3.0f));
+  addLargePane(wall);
   // Beside it a pane of 40 echoes in the same wall, detected 1.5 degrees off.
   wall.add(-0.6f, -0.2f, 5, 8, kWallAt3, wallPlane(3.0f, 1.5f * kDegree));
   const Eigen::Vector4f large_before = wall.objects[0].plane;
@@ -99,7 +113,7 @@ TEST(SharedNormals, ASmallPaneTakesTheNormalOfTheLargerPaneInItsWall)
 TEST(SharedNormals, APanelInFrontOfTheWallKeepsItsOwnOffset)
 {
   Wall wall;
-  wall.add(0.2f, 1.4f, 30, 20, kWallAt3, wallPlane(3.0f));
+  addLargePane(wall);
   // A panel 2 cm in front of the wall, parallel to it, its plane detected 1 degree off.
   wall.add(-0.6f, -0.2f, 5, 8, [](float, float) { return 2.98f; }, wallPlane(2.98f, 1.0f * kDegree));
   wall.process();
@@ -110,12 +124,10 @@ TEST(SharedNormals, APanelInFrontOfTheWallKeepsItsOwnOffset)
 TEST(SharedNormals, ThePooledNormalIsWeightedByTheEchoesSoTheLargerPaneLeadsIt)
 {
   Wall wall;
-  wall.add(0.2f, 1.4f, 30, 20, kWallAt3, wallPlane(3.0f));
-  // The small pane's echoes themselves tilted by 1 degree (x grows with y): fitted alone they
-  // would give that tilt, pooled with 600 echoes of the right wall hardly any.
-  const float slope = std::tan(1.0f * kDegree);
-  wall.add(-0.6f, -0.2f, 5, 8, [slope](float y, float) { return 3.0f + slope * (y + 0.4f); },
-           wallPlane(3.0f, 1.0f * kDegree));
+  addLargePane(wall);
+  // The small pane's echoes themselves turned by 1 degree: fitted alone they would give that
+  // tilt, pooled with 600 echoes of the right wall hardly any.
+  addTurnedSmallPane(wall, 1.0f);
   wall.process();
   EXPECT_LT(angleBetween(wall.objects[1].plane, wallPlane(3.0f)), 0.1f * kDegree);
 }
@@ -123,11 +135,9 @@ TEST(SharedNormals, ThePooledNormalIsWeightedByTheEchoesSoTheLargerPaneLeadsIt)
 TEST(SharedNormals, ObjectsInDifferentWallsOrFurtherApartKeepTheirPlanes)
 {
   Wall wall;
-  wall.add(0.2f, 1.4f, 30, 20, kWallAt3, wallPlane(3.0f));
+  addLargePane(wall);
   // 5 degrees off: another wall (a corner window), not one pane detected askew.
-  const float slope = std::tan(5.0f * kDegree);
-  wall.add(-0.6f, -0.2f, 5, 8, [slope](float y, float) { return 3.0f + slope * (y + 0.4f); },
-           wallPlane(3.0f, 5.0f * kDegree));
+  addTurnedSmallPane(wall, 5.0f);
   // 0.3 m in front of the wall: a mirror on a cabinet, not in the wall.
   wall.add(-1.6f, -1.2f, 5, 8, [](float, float) { return 2.7f; }, wallPlane(2.7f, 1.0f * kDegree));
   std::vector<Eigen::Vector4f> before;
@@ -148,7 +158,7 @@ TEST(SharedNormals, AtAngleZeroTheStageIsOff)
   EXPECT_NEAR(std::acos(defaults.min_cosine), 3.0f * kDegree, 1e-4f);
 
   Wall wall;
-  wall.add(0.2f, 1.4f, 30, 20, kWallAt3, wallPlane(3.0f));
+  addLargePane(wall);
   wall.add(-0.6f, -0.2f, 5, 8, kWallAt3, wallPlane(3.0f, 1.5f * kDegree));
   const Eigen::Vector4f small_before = wall.objects[1].plane;
   wall.process(core::stageConfigs(off).shared_normals);
