@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/median.h"
 #include "ohm_mirror_detector3d/core/merged_echoes.h"
 #include "ohm_mirror_detector3d/core/parallel.h"
 #include "ohm_mirror_detector3d/core/vision_cone.h"
@@ -175,11 +176,6 @@ struct BrightnessReference
   }
 };
 
-float brightnessOf(const Eigen::Vector3f& p, float intensity, const Eigen::Vector3f& origin)
-{
-  return intensity * (p - origin).squaredNorm();
-}
-
 // A point of this brightness against the reference.
 Brightness tellBrightness(const BrightnessReference& reference, float brightness)
 {
@@ -198,7 +194,7 @@ Brightness tellBrightness(const BrightnessReference& reference, float brightness
 Brightness brightnessBehind(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
                             const Eigen::Vector3f& origin)
 {
-  return tellBrightness(BrightnessReference::of(object), brightnessOf(p, intensity, origin));
+  return tellBrightness(BrightnessReference::of(object), rangeCompensatedBrightness(p, intensity, origin));
 }
 
 // A pane's type analysis tests a sample of the points behind its surface-echo patch; where too
@@ -243,13 +239,6 @@ struct ConeBrightness
       kept.push_back(Kept{ static_cast<std::uint32_t>(beam), brightness });
   }
 };
-
-float medianOf(std::vector<float>& values)
-{
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 // What the points behind an object said as a whole: its type, except for glass typed by its
 // faint phantoms where the geometry said mirror (object_type.cpp: it showed reflections and
@@ -696,8 +685,8 @@ void labelBlock(const EchoCloud& echo, std::size_t block, std::size_t block_end,
           outcome != ReflectionOutcome::phantom && outcome != ReflectionOutcome::transmitted &&
           brightnessBehind(object, echo.points[i], echo.intensities[i], origin) == Brightness::seenThrough)
         label = Label::behindTransparent;
-      brightness[static_cast<std::size_t>(nearest)].add(outcome, label, i,
-                                                        brightnessOf(echo.points[i], echo.intensities[i], origin));
+      brightness[static_cast<std::size_t>(nearest)].add(
+          outcome, label, i, rangeCompensatedBrightness(echo.points[i], echo.intensities[i], origin));
       countBehind(tally, outcome);
     }
   }
@@ -1022,7 +1011,7 @@ void ConeLabelling::apply(const Sweep& sweep, const Eigen::Vector3f& sensor_orig
     }
     if (phantom.size() < kMinConeBrightnessPoints || transmitted.size() < kMinConeBrightnessPoints)
       continue;
-    const BrightnessReference reference{ medianOf(transmitted), medianOf(phantom) };
+    const BrightnessReference reference{ medianInPlace(transmitted), medianInPlace(phantom) };
     for (std::size_t task = 0; task < results.size(); ++task)
       for (const ConeBrightness::Kept& kept : results[task].brightness[j].kept)
         if (tellBrightness(reference, kept.brightness) == Brightness::reflection)

@@ -48,7 +48,8 @@ bool faintAsMergedReflection(const ReflectiveObject& object, const Eigen::Vector
                              const Eigen::Vector3f& origin)
 {
   // NaN (no intensity, or nothing seen through the object) compares false.
-  return intensity * (p - origin).squaredNorm() < kMergedEchoBrightnessShare * object.evidence.seenThroughBrightness();
+  return rangeCompensatedBrightness(p, intensity, origin) <
+         kMergedEchoBrightnessShare * object.evidence.seenThroughBrightness();
 }
 
 namespace

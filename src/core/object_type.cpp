@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/median.h"
 #include "ohm_mirror_detector3d/core/merged_echoes.h"
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
 #include "ohm_mirror_detector3d/core/parallel.h"
@@ -478,9 +479,7 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
   result.phantom_share_points = b.shares.size();
   if (!b.shares.empty())
   {
-    const auto middle = b.shares.begin() + static_cast<std::ptrdiff_t>(b.shares.size() / 2);
-    std::nth_element(b.shares.begin(), middle, b.shares.end());
-    result.phantom_intensity_share = *middle;
+    result.phantom_intensity_share = medianInPlace(b.shares);
     const std::size_t dim = static_cast<std::size_t>(std::count_if(
         b.shares.begin(), b.shares.end(), [](float share) { return share < kDimPhantomShare; }));
     result.dim_phantom_fraction = static_cast<float>(dim) / static_cast<float>(b.shares.size());
@@ -490,12 +489,10 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
     b.shares.clear();
     for (std::size_t s = 0; s < samples; ++s)
       if (b.tests[s].outcome == outcome && b.sample_intensity[s] > 0.0f)
-        b.shares.push_back(b.sample_intensity[s] * (b.sample[s] - sensor_origin).squaredNorm());
+        b.shares.push_back(rangeCompensatedBrightness(b.sample[s], b.sample_intensity[s], sensor_origin));
     if (b.shares.size() < kMinBrightnessSamples)
       return std::numeric_limits<float>::quiet_NaN();
-    const auto middle = b.shares.begin() + static_cast<std::ptrdiff_t>(b.shares.size() / 2);
-    std::nth_element(b.shares.begin(), middle, b.shares.end());
-    return *middle;
+    return medianInPlace(b.shares);
   };
   result.phantom_brightness = brightness(ReflectionOutcome::phantom);
   result.transmitted_brightness = brightness(ReflectionOutcome::transmitted);
@@ -505,11 +502,7 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
     if (b.tests[s].outcome == ReflectionOutcome::phantom && b.tests[s].seen_intensity > 0.0f)
       b.shares.push_back(b.tests[s].seen_intensity * b.tests[s].seen_range * b.tests[s].seen_range);
   if (b.shares.size() >= kMinBrightnessSamples)
-  {
-    const auto middle = b.shares.begin() + static_cast<std::ptrdiff_t>(b.shares.size() / 2);
-    std::nth_element(b.shares.begin(), middle, b.shares.end());
-    result.landing_brightness = *middle;
-  }
+    result.landing_brightness = medianInPlace(b.shares);
   auto estimated = [weight](std::size_t n) {
     return static_cast<std::size_t>(std::lround(static_cast<double>(n) * weight));
   };

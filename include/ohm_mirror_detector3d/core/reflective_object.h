@@ -38,6 +38,14 @@ struct LandingTolerance
 
 // Why the type decision came out as it did (object_type.h): what the points behind the object
 // said, on an even sample of at most 512 of them, the counts scaled to all of them.
+// A return's brightness for the rules that compare brightnesses (TypeEvidence's medians, the
+// cone labelling, merged echoes): its intensity times its squared range from `origin`, so that the
+// range's falloff cancels. NaN without an intensity.
+inline float rangeCompensatedBrightness(const Eigen::Vector3f& p, float intensity, const Eigen::Vector3f& origin)
+{
+  return intensity * (p - origin).squaredNorm();
+}
+
 struct TypeEvidence
 {
   std::size_t mirrored_points = 0;     // points behind the plane (inside its vision cone), reflected across it
