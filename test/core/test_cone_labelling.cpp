@@ -317,6 +317,19 @@ TEST(ConeLabelling, APathThatMayGoOnThroughAnotherMirrorProvesNothing)
   EXPECT_EQ(counts[Label::behindTransparent], 0u);
 }
 
+// The sweep's returns given intensities of brightness (intensity x r^2) 5 where y > 0 and 900
+// elsewhere: reflections in a pane against what is seen through it.
+void faintWhereYIsPositive(core::Sweep& sweep)
+{
+  sweep.has_intensity = true;
+  for (std::size_t k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
+    {
+      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
+      sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
+    }
+}
+
 // Nothing seen in front of a pane at x = 2: no point behind it can be told by its geometry. Its
 // sampled phantoms came back with a brightness (intensity x r^2) of `phantom`, what was seen
 // through it with `seen_through`; behind it, where y > 0, points of brightness 5, elsewhere of
@@ -326,13 +339,7 @@ void expectLabelledByBrightness(core::ReflectiveObject glass, float seen_through
                                 const std::function<Label(bool is_faint)>& expected, float phantom = 10.0f)
 {
   core::Sweep sweep = test::rangeImage({ { 0, 5.0f, test::everywhere } });
-  sweep.has_intensity = true;
-  for (std::size_t k = 0; k < 2; ++k)
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-    {
-      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-      sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
-    }
+  faintWhereYIsPositive(sweep);
   glass.evidence.phantom_brightness = phantom;
   glass.evidence.transmitted_brightness = seen_through;
   std::vector<core::ReflectiveObject> objects{ glass };
@@ -383,13 +390,7 @@ core::Sweep faintReflectionsAndBrightPointsBehindAPane()
   core::Sweep sweep = test::rangeImage({ { 0, -1.0f, [](const Eigen::Vector3f& x) { return x.z() < 0.0f; } },
                                          { 0, 5.0f, [](const Eigen::Vector3f& x) { return x.y() > 0.0f; } },
                                          { 0, 3.5f, [](const Eigen::Vector3f& x) { return x.y() <= 0.0f; } } });
-  sweep.has_intensity = true;
-  for (std::size_t k = 0; k < 2; ++k)
-    for (std::size_t i = 0; i < sweep.beamCount(); ++i)
-    {
-      const Eigen::Vector3f& p = sweep.echoes[k].points[i];
-      sweep.echoes[k].intensities[i] = (p.y() > 0.0f ? 5.0f : 900.0f) / p.squaredNorm();
-    }
+  faintWhereYIsPositive(sweep);
   return sweep;
 }
 
