@@ -296,6 +296,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["dim_phantom_fraction"] = static_cast<double>(e.dim_phantom_fraction);
   d["typed_by_dim_phantoms"] = e.typed_by_dim_phantoms;
   d["typed_by_bright_phantoms"] = e.typed_by_bright_phantoms;
+  d["typed_by_blocked_paths"] = e.typed_by_blocked_paths;
   d["typed_as_open_spot"] = e.typed_as_open_spot;
   d["path_blocked_points"] = e.path_blocked_points;
   d["phantom_brightness"] = static_cast<double>(e.phantom_brightness);

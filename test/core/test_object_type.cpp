@@ -523,5 +523,54 @@ TEST(ObjectType, AnUnknownObjectCountsTheOccludedPointsWhosePhantomLightAWallWou
   EXPECT_EQ(window.evidence.path_blocked_points, 0u);
 }
 
+// A room seen by a lidar at the origin with 1 cm of range noise, 1 degree steps: a floor at
+// z = -0.8 that runs on through the plane x = 2, the room's back wall at x = -0.5, and a wall at
+// x = far_wall beyond the plane. With far_wall = 4.5 the part beyond x = 2 is the room's mirror
+// image (a mirror at x = 2); further out, it is what a window at x = 2 shows.
+core::Sweep noisyRoomAndBeyond(float far_wall)
+{
+  std::mt19937 noise_source{ 11 };
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  const std::vector<test::Wall> walls{ { 2, -0.8f, test::everywhere },
+                                       { 0, -0.5f, test::everywhere },
+                                       { 0, far_wall, test::everywhere } };
+  return test::gridSweep(121, 360, -60.0f, 1.0f, 0.0f, 0.0f, 1.0f, [&](const Eigen::Vector3f& direction) {
+    float nearest = test::kInf;
+    for (const test::Wall& wall : walls)
+    {
+      const float t = wall.at / direction[wall.axis];
+      if (t > 0.0f && t < nearest)
+        nearest = t;
+    }
+    const float range = nearest + noise(noise_source);
+    // No intensities: only the geometry decides.
+    return std::make_pair(std::isfinite(nearest) ? Eigen::Vector3f(range * direction) : Eigen::Vector3f::Constant(test::kNaN),
+                          test::kNaN);
+  });
+}
+
+TEST(ObjectType, AWindowWhoseOutsideFloorLandsOnTheRoomsFloorIsGlass)
+{
+  // Through a window at x = 2 the ground outside (the floor's plane) lands, reflected, on the
+  // room's floor, which the noisy returns around where it lands make out only roughly: as a
+  // mirror's phantoms of the floor would. Beyond x = 4.5 the ground and the wall at x = 8 land
+  // behind the room's back wall, where a phantom's light could not have come from. The window
+  // reaches down to the floor (-0.8 <= z <= 0.2).
+  core::ReflectiveObject window = objectAtTwoMetres();
+  window.centre.z() = -0.3f;
+  EXPECT_EQ(typeIn(noisyRoomAndBeyond(8.0f), window), ObjectType::glass);
+  EXPECT_EQ(window.evidence.geometric_type, ObjectType::glass);
+  EXPECT_TRUE(window.evidence.typed_by_blocked_paths);
+  EXPECT_GT(window.evidence.path_blocked_points, window.evidence.phantom_points);
+
+  // A mirror at x = 2 in the same room: its phantoms of the back wall land on it, and no point
+  // is path-blocked.
+  core::ReflectiveObject mirror = objectAtTwoMetres();
+  mirror.centre.z() = -0.3f;
+  EXPECT_EQ(typeIn(noisyRoomAndBeyond(4.5f), mirror), ObjectType::mirror);
+  EXPECT_FALSE(mirror.evidence.typed_by_blocked_paths);
+  EXPECT_GT(mirror.evidence.phantom_points, 100u);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

@@ -54,7 +54,8 @@ struct TypeEvidence
   std::size_t transmitted_points = 0;  // estimated: seen through (what lies where they land is further away)
   std::size_t ambiguous_points = 0;    // estimated: land on a surface that continues through the plane
   std::size_t undecided_points = 0;    // estimated: where they land is occluded, out of view, or without return
-  // Of an object the type analysis left unknown: estimated, the undecided points whose phantom
+  // Of an object the type analysis left unknown or found a mirror among points that disprove
+  // it (inside the rectangle only, then): estimated, the undecided points whose phantom
   // light would have had to pierce a surface the sensor saw on its way from the plane to where
   // they land (ReflectionTestOptions::check_path), so real as the cone labelling counts them.
   std::size_t path_blocked_points = 0;
@@ -83,6 +84,10 @@ struct TypeEvidence
   // typed mirror by its phantoms' brightness: bright enough for no reflection in glass, and landing
   // as a mirror's phantoms land (object_type.cpp).
   bool typed_by_bright_phantoms = false;
+  // Whether the geometry's mirror became glass because points behind it that a phantom's light
+  // could not have reached (path-blocked) outnumbered its phantoms, most of which landed on
+  // surfaces that map onto themselves (object_type.cpp, kMinPathBlockedForGlass).
+  bool typed_by_blocked_paths = false;
   // Whether the object was a specular spot (specular_spots.h) with no phantom behind it that the
   // type analysis left unknown, and was typed glass for it: the rays around the spot went through
   // its plane and returned nothing or from beyond it (a window to open space).
