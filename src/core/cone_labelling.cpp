@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/chain_cones.h"
 #include "ohm_mirror_detector3d/core/median.h"
 #include "ohm_mirror_detector3d/core/merged_echoes.h"
 #include "ohm_mirror_detector3d/core/parallel.h"
@@ -427,47 +428,6 @@ bool mayReach(const ConeBounds& bounds, const BlockBox& box)
     return true;
   return !box.box.isEmpty() && bounds.mayAffect(box.box.min().cast<double>(), box.box.max().cast<double>());
 }
-
-// Whether a point behind object `from`, reflected across it to `reflected`, lies behind another
-// object as the sensor's image in `from` sees it (the test of reflection_chains.cpp): then its
-// light may have come by a second reflection, or through that surface. The cones from each
-// object's image of the sensor are made when first asked for.
-class ChainCones
-{
-public:
-  // Every object's cones from every other's image of the origin, built before the labelling so
-  // that its threads only read them (n^2 cones: a few dozen objects at most).
-  ChainCones(const std::vector<ReflectiveObject>& objects, const Eigen::Vector3f& origin, float plane_threshold,
-             float margin)
-    : objects_(objects), plane_threshold_(plane_threshold), cones_(objects.size())
-  {
-    if (objects.size() < 2)
-      return;
-    for (std::size_t from = 0; from < objects.size(); ++from)
-    {
-      const Eigen::Vector3f image = objects[from].reflect(origin);
-      for (const ReflectiveObject& object : objects)
-        cones_[from].emplace_back(object, image, plane_threshold, margin);
-    }
-  }
-
-  bool mayContinue(std::size_t from, const Eigen::Vector3f& reflected, const Eigen::Vector3f& crossing) const
-  {
-    if (objects_.size() < 2)
-      return false;
-    const std::vector<VisionCone>& cones = cones_[from];
-    for (std::size_t j = 0; j < objects_.size(); ++j)
-      if (j != from && objects_[j].signedDistance(crossing) > plane_threshold_ &&
-          cones[j].locate(reflected).relation == ConeRelation::behind)
-        return true;
-    return false;
-  }
-
-private:
-  const std::vector<ReflectiveObject>& objects_;
-  float plane_threshold_;
-  std::vector<std::vector<VisionCone>> cones_;
-};
 
 // Counts a point behind the object by what it said (ReflectionOutcome).
 void countBehind(ConeTally& tally, ReflectionOutcome outcome)
