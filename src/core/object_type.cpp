@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ohm_mirror_detector3d/core/block_box.h"
+#include "ohm_mirror_detector3d/core/chain_cones.h"
 #include "ohm_mirror_detector3d/core/median.h"
 #include "ohm_mirror_detector3d/core/merged_echoes.h"
 #include "ohm_mirror_detector3d/core/mirror_plane_refinement.h"
@@ -316,20 +317,22 @@ void ObjectTypeAnalyzer::analyzeAll(const Sweep& sweep, const Eigen::Vector3f& s
   const std::size_t workers = workersFor(objects.size(), config_.threads);
   while (buffers_.size() < workers)
     buffers_.emplace_back(new Buffers);
+  const ChainCones chains(objects, sensor_origin, static_cast<float>(config_.plane_threshold),
+                          static_cast<float>(config_.cone_margin));
   runTasks(objects.size(), config_.threads, [&](std::size_t j, std::size_t worker) {
-    analyzeWith(*buffers_[worker], sweep, sensor_origin, labels, evidence, objects[j]);
+    analyzeWith(*buffers_[worker], sweep, sensor_origin, labels, evidence, objects[j], &chains, j);
   });
 }
 
 void ObjectTypeAnalyzer::analyze(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                                  const ReflectionEvidence& evidence, ReflectiveObject& object)
 {
-  analyzeWith(*buffers_[0], sweep, sensor_origin, labels, evidence, object);
+  analyzeWith(*buffers_[0], sweep, sensor_origin, labels, evidence, object, nullptr, 0);
 }
 
 void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
                                      const SweepLabels& labels, const ReflectionEvidence& evidence,
-                                     ReflectiveObject& object)
+                                     ReflectiveObject& object, const ChainCones* chains, std::size_t index)
 {
   const auto* block_boxes = boxes_->of(sweep);
   TypeEvidence& result = object.evidence;
@@ -446,6 +449,16 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
       // for none: not done.)
       if (b.tests[s].outcome == ReflectionOutcome::transmitted && merging_surface &&
           mayBeMergedReflection(evidence, object, b.sample[s]))
+        b.tests[s].outcome = ReflectionOutcome::noReturn;
+      // Seen through, where its reflection lies behind another object as the sensor's image in
+      // this one sees it (chain_cones.h): what the sensor saw beyond it may be that object's
+      // phantom or what it lets through, and the point a phantom of this one reflected again by
+      // the other. Measured on make evaluate: a mirror 0.8 m from the 32-ring lidar, whose
+      // reflections in a second mirror beside it counted as seen through, was typed glass (random
+      // scene 4: 3065 double-echo phantoms kept at a wrong place); it is a mirror now, nothing else
+      // changed, nor on random scenes 39000-39024 and 40000-40024 (all families).
+      if (b.tests[s].outcome == ReflectionOutcome::transmitted && chains != nullptr &&
+          chains->mayContinue(index, object.reflect(b.sample[s]), object.rayCrossing(sensor_origin, b.sample[s])))
         b.tests[s].outcome = ReflectionOutcome::noReturn;
     }
   };

@@ -572,5 +572,31 @@ TEST(ObjectType, AWindowWhoseOutsideFloorLandsOnTheRoomsFloorIsGlass)
   EXPECT_GT(mirror.evidence.phantom_points, 100u);
 }
 
+TEST(ObjectType, PointsSeenThroughWhereAnotherObjectMayHaveReflectedThemDoNotMakeGlass)
+{
+  // Behind the surface at x = 2, a wall at x = 5.5. Reflected across the surface it lies at
+  // x = -1.5, where the sensor sees further, to x = -6: seen through, alone.
+  const core::Sweep sweep = test::rangeImage({ { 0, 5.5f, test::everywhere }, { 0, -6.0f, test::everywhere } });
+  core::ReflectiveObject alone = objectAtTwoMetres();
+  EXPECT_EQ(typeIn(sweep, alone), ObjectType::glass);
+  EXPECT_GT(alone.evidence.transmitted_points, 100u);
+
+  // With a mirror at x = -1 facing it, the reflections lie behind that mirror as the sensor's
+  // image in the surface sees it: what the sensor saw beyond may be that mirror's phantoms, and
+  // the points behind the surface its phantoms reflected again. They prove nothing.
+  core::ReflectiveObject facing = test::wallObject(1.0f, 3.0f, 3.0f, ObjectType::unknown, 1);
+  facing.plane = Eigen::Vector4f(1.0f, 0.0f, 0.0f, 1.0f);
+  facing.centre = Eigen::Vector3f(-1.0f, 0.0f, 0.0f);
+  std::vector<core::ReflectiveObject> objects{ objectAtTwoMetres(), facing };
+  core::SweepLabels labels;
+  labels.reset(sweep.beamCount());
+  core::ReflectionEvidence evidence;
+  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
+  core::ObjectTypeAnalyzer analyzer(core::stageConfigs(core::Params()).object_type);
+  analyzer.analyzeAll(sweep, Eigen::Vector3f::Zero(), labels, evidence, objects);
+  EXPECT_EQ(objects[0].type, ObjectType::unknown);
+  EXPECT_EQ(objects[0].evidence.transmitted_points, 0u);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

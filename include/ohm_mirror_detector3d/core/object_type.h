@@ -17,6 +17,7 @@ namespace ohm_mirror_detector3d
 {
 namespace core
 {
+class ChainCones;
 struct ObjectTypeConfig
 {
   double plane_threshold;          // d_thres_plane [m]: half thickness of the surface
@@ -59,7 +60,9 @@ public:
                const ReflectionEvidence& evidence, ReflectiveObject& object);
   // beginSweep(sweep), then analyze() for every object, the objects shared among config.threads
   // threads (the same result as one after the other: an object's decision reads only the sweep,
-  // its labels and the evidence).
+  // its labels, the evidence and the other objects as they were before any was analysed). Here a
+  // point seen through an object does not count where its reflection lies behind another object
+  // (chain_cones.h): it may be the other's phantom reflected again.
   void analyzeAll(const Sweep& sweep, const Eigen::Vector3f& sensor_origin, const SweepLabels& labels,
                   const ReflectionEvidence& evidence, std::vector<ReflectiveObject>& objects);
 
@@ -86,8 +89,10 @@ public:
 private:
   struct Buffers;
   struct SweepBoxes;
+  // `chains` (null: none) tells where a point behind object `index` may continue through another.
   void analyzeWith(Buffers& buffers, const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
-                   const SweepLabels& labels, const ReflectionEvidence& evidence, ReflectiveObject& object);
+                   const SweepLabels& labels, const ReflectionEvidence& evidence, ReflectiveObject& object,
+                   const ChainCones* chains, std::size_t index);
   // With enough of buffers.landed (their estimated count, `weight` points each, at least
   // icp_min_points, and 3 sampled), refines object's plane from them and records it: the
   // evidence's plane_refined and plane_correction, the landing tolerance's tilt term. False
