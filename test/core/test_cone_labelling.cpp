@@ -434,15 +434,20 @@ TEST(ConeLabelling, BehindGlassTypedByItsFaintPhantomsAPointAsBrightAsWhatIsSeen
 {
   // The pane typed glass by its faint phantoms where the geometry said mirror: its points without
   // evidence are reflections, as its other points said, except those at least as bright as the
-  // geometric mean of its phantoms and what is seen through it. With too little contrast between
-  // the two, brightness tells nothing and all stay reflections.
+  // geometric mean of its phantoms (10) and what is seen through it, or, with too little contrast
+  // between the two to tell by that mean, at least as bright as what is seen through. The bright
+  // points are 900, the faint ones 5.
   core::ReflectiveObject glass = wallObject(2.0f, 1.0f, 1.0f, ObjectType::glass);
   glass.evidence.typed_by_dim_phantoms = true;
   glass.evidence.geometric_type = ObjectType::mirror;
   for (const float seen_through : { 1000.0f, 50.0f })
     expectLabelledByBrightness(glass, seen_through, [&](bool is_faint) {
-      return !is_faint && seen_through >= 100.0f ? Label::behindTransparent : Label::behindReflective;
+      return !is_faint ? Label::behindTransparent : Label::behindReflective;
     });
+  // Seen through at 2000, its phantoms at 1000: the bright points are fainter than what is seen
+  // through and there is no contrast to tell by; they stay reflections.
+  expectLabelledByBrightness(
+      glass, 2000.0f, [&](bool) { return Label::behindReflective; }, 1000.0f);
 }
 
 TEST(ConeLabelling, WhatIsSeenThroughIsThePointsSeenThroughUnlessTheyAreFainterThanThePhantoms)
