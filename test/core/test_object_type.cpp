@@ -196,15 +196,24 @@ TEST(ObjectType, OnlyPointsInsideTheVisionConeCount)
   EXPECT_EQ(object.evidence.mirrored_points, 0u);
 }
 
-// The type of `object` in a sweep seen from the origin, every point unchecked.
-ObjectType typeIn(const core::Sweep& sweep, core::ReflectiveObject& object)
+// The types of `objects` in a sweep seen from the origin, every point unchecked, analysed together
+// as the pipeline does (each sees the others).
+void typesIn(const core::Sweep& sweep, std::vector<core::ReflectiveObject>& objects)
 {
   core::SweepLabels labels;
   labels.reset(sweep.beamCount());
   core::ReflectionEvidence evidence;
   evidence.build(sweep, labels, Eigen::Vector3f::Zero());
   core::ObjectTypeAnalyzer analyzer(core::stageConfigs(core::Params()).object_type);
-  analyzer.analyze(sweep, Eigen::Vector3f::Zero(), labels, evidence, object);
+  analyzer.analyzeAll(sweep, Eigen::Vector3f::Zero(), labels, evidence, objects);
+}
+
+// The type of `object` alone in a sweep seen from the origin, every point unchecked.
+ObjectType typeIn(const core::Sweep& sweep, core::ReflectiveObject& object)
+{
+  std::vector<core::ReflectiveObject> objects{ object };
+  typesIn(sweep, objects);
+  object = objects[0];
   return object.type;
 }
 
@@ -588,12 +597,7 @@ TEST(ObjectType, PointsSeenThroughWhereAnotherObjectMayHaveReflectedThemDoNotMak
   facing.plane = Eigen::Vector4f(1.0f, 0.0f, 0.0f, 1.0f);
   facing.centre = Eigen::Vector3f(-1.0f, 0.0f, 0.0f);
   std::vector<core::ReflectiveObject> objects{ objectAtTwoMetres(), facing };
-  core::SweepLabels labels;
-  labels.reset(sweep.beamCount());
-  core::ReflectionEvidence evidence;
-  evidence.build(sweep, labels, Eigen::Vector3f::Zero());
-  core::ObjectTypeAnalyzer analyzer(core::stageConfigs(core::Params()).object_type);
-  analyzer.analyzeAll(sweep, Eigen::Vector3f::Zero(), labels, evidence, objects);
+  typesIn(sweep, objects);
   EXPECT_EQ(objects[0].type, ObjectType::unknown);
   EXPECT_EQ(objects[0].evidence.transmitted_points, 0u);
 }
