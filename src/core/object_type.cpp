@@ -569,17 +569,25 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
       object.type = ObjectType::mirror;
   }
 
-  // A mirror whose phantoms are outnumbered by points proved real, once those that prove nothing
-  // are set aside, is glass (see kMinPathBlockedForGlass).
-  if (object.type == ObjectType::mirror && inside_transmitted + inside_occluded >= inside_phantoms)
-  {
+  // The sampled occluded points (inside the rectangle only, or all) whose phantom light would have
+  // had to pierce a surface the sensor saw (ReflectionTestOptions::check_path): real, as the cone
+  // labelling counts them.
+  auto pathBlocked = [&](bool inside_only) {
     ReflectionTestOptions path;
     path.check_path = true;
     std::size_t blocked = 0;
     for (std::size_t s = 0; s < samples; ++s)
-      if (b.sample_inside[s] && b.tests[s].outcome == ReflectionOutcome::occluded &&
+      if ((!inside_only || b.sample_inside[s]) && b.tests[s].outcome == ReflectionOutcome::occluded &&
           evidence.test(object.plane, b.sample[s], object.landing_tolerance, path).path_blocked)
         ++blocked;
+    return blocked;
+  };
+
+  // A mirror whose phantoms are outnumbered by points proved real, once those that prove nothing
+  // are set aside, is glass (see kMinPathBlockedForGlass).
+  if (object.type == ObjectType::mirror && inside_transmitted + inside_occluded >= inside_phantoms)
+  {
+    const std::size_t blocked = pathBlocked(true);
     if (blocked >= kMinPathBlockedForGlass && inside_transmitted + blocked >= inside_phantoms)
     {
       ReflectionTestOptions wide;
@@ -624,16 +632,7 @@ void ObjectTypeAnalyzer::analyzeWith(Buffers& b, const Sweep& sweep, const Eigen
   // not follow them (see above); the intensity stage may (intensity_evidence.h,
   // seenThroughLeaningPane).
   if (object.type == ObjectType::unknown)
-  {
-    ReflectionTestOptions options;
-    options.check_path = true;
-    std::size_t blocked = 0;
-    for (std::size_t s = 0; s < samples; ++s)
-      if (b.tests[s].outcome == ReflectionOutcome::occluded &&
-          evidence.test(object.plane, b.sample[s], object.landing_tolerance, options).path_blocked)
-        ++blocked;
-    result.path_blocked_points = estimated(blocked);
-  }
+    result.path_blocked_points = estimated(pathBlocked(false));
 }
 
 bool ObjectTypeAnalyzer::refineGrownPlane(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
