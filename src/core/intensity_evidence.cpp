@@ -175,6 +175,8 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
   const float reference = scale.reference;
   if (!sweep.has_intensity || !(reference > 0.0f))
     return out;
+  out.reference = reference;
+  out.range_compensated = scale.range_compensated;
   const OnObject on_object{ object, config.plane_threshold };
   const Eigen::Vector3f normal = object.plane.head<3>();
   const float cos_off_peak = std::cos(kOffPeakDeg * static_cast<float>(M_PI) / 180.0f);

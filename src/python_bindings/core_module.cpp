@@ -315,6 +315,7 @@ py::dict objectToDict(const core::ReflectiveObject& object)
   d["intensity_diffuse_reflector"] = intensity.diffuse_reflector;
   d["intensity_pane_by_echoes"] = intensity.pane_by_echoes;
   d["intensity_seen_through_pane"] = intensity.seen_through_pane;
+  d["intensity_oblique_faint_surface"] = intensity.oblique_faint_surface;
   d["intensity_haze"] = static_cast<double>(intensity.haze);
   d["intensity_echo_ratio"] = static_cast<double>(intensity.echo_ratio);
   d["intensity_log_odds"] = static_cast<double>(intensity.log_odds);

@@ -1196,5 +1196,83 @@ TEST(ConeLabelling, APaneGrownToItsExtentTakesTheFaintPhantomPlaneItsFewSurfaceE
   EXPECT_EQ(objects[0].phantom_planes.size(), 1u);
 }
 
+// Near echoes on the plane x = 2 over y in [2.6, 3.4] and z in [-0.2, 0.2] (incidence 52-60 deg),
+// each with a far echo 1 m further along its beam; even beams faint (brightness, intensity x r^2:
+// 5), odd ones bright (2000), against a sweep reference of 1000. Labels them (near errorSurface,
+// far error) with `object` and returns (near labels of the faint beams, of the bright ones):
+// 17 x 9 beams, kObliqueFaint faint and kObliqueBright bright.
+constexpr std::size_t kObliqueFaint = 77;
+constexpr std::size_t kObliqueBright = 76;
+std::pair<std::map<Label, std::size_t>, std::map<Label, std::size_t>>
+labelObliqueLayer(core::ReflectiveObject& object)
+{
+  std::vector<test::Beam> beams;
+  for (float y = 2.6f; y <= 3.4f + 1e-4f; y += 0.05f)
+    for (float z = -0.2f; z <= 0.2f + 1e-4f; z += 0.05f)
+    {
+      const Eigen::Vector3f near(2.0f, y, z);
+      beams.push_back(test::Beam{ near, near + near.normalized() });
+    }
+  core::Sweep sweep = test::makeSweep(beams);
+  for (std::size_t i = 0; i < beams.size(); ++i)
+    for (std::size_t k = 0; k < 2; ++k)
+      sweep.echoes[k].intensities[i] = (i % 2 == 0 ? 5.0f : 2000.0f) / sweep.echoes[k].points[i].squaredNorm();
+  object.intensity.reference = 1000.0f;
+  std::vector<core::ReflectiveObject> objects{ object };
+  const Labelled out =
+      label(sweep, objects, std::vector<std::pair<Label, Label>>(beams.size(), { Label::errorSurface, Label::error }));
+  object = objects[0];
+  std::map<Label, std::size_t> faint, bright;
+  for (std::size_t i = 0; i < beams.size(); ++i)
+    ++(i % 2 == 0 ? faint : bright)[out.labels.echoes[0][i]];
+  return { faint, bright };
+}
+
+// A pane 2 m ahead whose rectangle spans y in [2.5, 3.5]: no beam meets it within 50 deg of
+// perpendicular.
+core::ReflectiveObject obliquePane(ObjectType type, float faint_share)
+{
+  core::ReflectiveObject object = wallObject(2.0f, 1.0f, 0.6f, type);
+  object.centre = Eigen::Vector3f(2.0f, 3.0f, 0.0f);
+  object.intensity.faint_share = faint_share;
+  return object;
+}
+
+TEST(ConeLabelling, FaintEchoesOfGlassSeenOnlyFarFromPerpendicularAreDroppedAsReflections)
+{
+  // Glass returns a surface echo only near perpendicular incidence: a layer of faint near echoes
+  // at 52-60 deg is the reflection, in a pane not found, of a surface in the room. Its faint
+  // echoes are dropped; what is bright on the plane (a frame) stays glass's surface.
+  core::ReflectiveObject glass = obliquePane(ObjectType::glass, 0.9f);
+  const auto labels = labelObliqueLayer(glass);
+  EXPECT_TRUE(glass.intensity.oblique_faint_surface);
+  EXPECT_EQ(labels.first, (std::map<Label, std::size_t>{ { Label::error, kObliqueFaint } }));
+  EXPECT_EQ(labels.second, (std::map<Label, std::size_t>{ { Label::transparentSurface, kObliqueBright } }));
+  EXPECT_EQ(glass.surface_points, kObliqueBright);
+}
+
+TEST(ConeLabelling, FaintEchoesOnAnObjectMetNearPerpendicularOrOnAMirrorOrMostlyBrightStay)
+{
+  // The same layer on: glass whose rectangle reaches the sensor's perpendicular (its faint echoes
+  // are its haze), a mirror (a mirror's silvered back hazes faintly at any angle), and glass whose
+  // echoes off the specular peak are mostly bright. None of them drops an echo.
+  core::ReflectiveObject wide = obliquePane(ObjectType::glass, 0.9f);
+  wide.centre.y() = 1.5f;
+  wide.width = 4.0f;
+  const std::pair<core::ReflectiveObject, Label> cases[] = {
+    { wide, Label::transparentSurface },
+    { obliquePane(ObjectType::mirror, 0.9f), Label::reflectiveSurface },
+    { obliquePane(ObjectType::glass, 0.3f), Label::transparentSurface },
+  };
+  for (const auto& c : cases)
+  {
+    core::ReflectiveObject object = c.first;
+    const auto labels = labelObliqueLayer(object);
+    EXPECT_FALSE(object.intensity.oblique_faint_surface);
+    EXPECT_EQ(labels.first, (std::map<Label, std::size_t>{ { c.second, kObliqueFaint } }));
+    EXPECT_EQ(labels.second, (std::map<Label, std::size_t>{ { c.second, kObliqueBright } }));
+  }
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d

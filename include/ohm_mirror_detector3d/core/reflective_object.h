@@ -132,6 +132,10 @@ struct IntensityFeatures
   std::size_t echoes = 0;    // returns on the plane, inside the rectangle
   std::size_t off_peak = 0;  // of those, beyond the specular peak
   float faint_share = std::numeric_limits<float>::quiet_NaN();
+  // The sweep's reference brightness the features are relative to (IntensityScale: median raw
+  // signal x range^2; NaN: none) and whether the driver's intensities are range-compensated.
+  float reference = std::numeric_limits<float>::quiet_NaN();
+  bool range_compensated = false;
   float haze = std::numeric_limits<float>::quiet_NaN();
   float echo_ratio = std::numeric_limits<float>::quiet_NaN();
   std::size_t bright_off_peak = 0;  // of the off-peak echoes, those lit like a wall
@@ -148,6 +152,11 @@ struct IntensityFeatures
   // Left unknown by the geometry, seen through and leaning to glass by the log-odds: typed glass
   // (intensity_evidence.h, seenThroughLeaningPane).
   bool seen_through_pane = false;
+  // Glass that no beam met within kMaxSpecularIncidenceDeg of perpendicular, whose echoes off the
+  // specular peak are mostly faint: no surface echo of a pane, but the faint reflection, in a pane
+  // not found, of a surface in the room (set by the cone labelling, obliqueFaintSurface; its faint
+  // echoes there are dropped as `error`).
+  bool oblique_faint_surface = false;
 };
 
 struct ReflectiveObject
