@@ -43,3 +43,18 @@ def test_the_scenes_by_loss_account_for_every_phantom_at_a_wrong_place_worst_fir
     for scene, phantoms, wrong, groups in rows:
         assert wrong <= phantoms
         assert sum(n for _, n in groups) <= wrong
+
+
+def test_the_scenes_by_loss_of_points_behind_glass_account_for_every_one_not_labelled_behind_transparent():
+    breakdown = SourceFileLoader('quality_breakdown', SCRIPT).load_module()
+    pipeline = core.Pipeline()
+    per_scene = [(case.scene, breakdown.breakdown(case, pipeline))
+                 for case in ev.cases(['hesai_qt64'], 2, 3, named=False)]
+    rows = breakdown.scenes_by_loss(per_scene, 'glass')
+    assert sum(row[2] for row in rows) == sum(sum(b['glass'].values()) for _, b in per_scene)
+    assert rows[0][2] > 0, 'no scene with points behind glass labelled otherwise to rank'
+    assert [row[2] for row in rows] == sorted((row[2] for row in rows), reverse=True)
+    for scene, behind, lost, groups in rows:
+        assert behind == dict(per_scene)[scene]['counts']['double-echo behind glass']
+        assert lost <= behind
+        assert sum(n for _, n in groups) <= lost
