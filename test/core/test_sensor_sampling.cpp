@@ -231,5 +231,50 @@ TEST(DualReturnAzimuth, TheStepIsWorkedOutFromARing)
   EXPECT_EQ(stats.duplicates, 0u);
 }
 
+TEST(DualReturnAzimuth, ARingThatReturnsFromAThirdOfTheRotationKeepsItsStep)
+{
+  // 2048 firings a rotation (0.17578125 deg), returns from only 700 of them in each ring (a lidar
+  // with a 120 degree field of view, or one hemmed in by people next to it): the step is still
+  // the firings', and every point gets a cell of its own.
+  core::DualReturnInput input;
+  const double step = 360.0 / 2048.0;
+  for (int ring = 0; ring < 8; ++ring)
+    for (int column = 100; column < 800; ++column)
+    {
+      const double azimuth = column * step * kPi / 180.0;
+      input.points.points.emplace_back(static_cast<float>(3.0 * std::cos(azimuth)),
+                                       static_cast<float>(3.0 * std::sin(azimuth)), static_cast<float>(ring) * 0.1f);
+      input.points.intensities.push_back(0.0f);
+      input.returns.push_back(1);
+      input.rings.push_back(ring);
+    }
+  EXPECT_NEAR(core::estimateAzimuthStepDeg(input), step, 1e-9);
+  core::Sweep sweep;
+  const core::DualReturnStats stats = core::binDualReturns(input, core::kAzimuthStepFromCloud, sweep);
+  EXPECT_EQ(sweep.cols, 2048u);
+  EXPECT_EQ(stats.unbinned(), 0u);
+}
+
+TEST(DualReturnAzimuth, ReturnsBunchedIntoASmallArcMakeNoHugeGrid)
+{
+  // A corrupt cloud: 1000 returns a ring within one degree. The grid gets at most eight columns a
+  // return, not the 36000 of the finest resolution allowed.
+  core::DualReturnInput input;
+  for (int ring = 0; ring < 4; ++ring)
+    for (int k = 0; k < 1000; ++k)
+    {
+      const double azimuth = k * 0.001 * kPi / 180.0;
+      input.points.points.emplace_back(static_cast<float>(3.0 * std::cos(azimuth)),
+                                       static_cast<float>(3.0 * std::sin(azimuth)), static_cast<float>(ring) * 0.1f);
+      input.points.intensities.push_back(0.0f);
+      input.returns.push_back(1);
+      input.rings.push_back(ring);
+    }
+  core::Sweep sweep;
+  core::binDualReturns(input, core::kAzimuthStepFromCloud, sweep);
+  EXPECT_LE(sweep.cols, 8000u);
+  EXPECT_GE(sweep.cols, 1000u);
+}
+
 }  // namespace
 }  // namespace ohm_mirror_detector3d
