@@ -66,7 +66,8 @@ bool seenBehindAnother(const std::vector<ReflectiveObject>& objects, std::size_t
     return false;
   std::vector<VisionCone> cones;
   for (std::size_t j = 0; j < objects.size(); ++j)
-    if (j != index && objects[j].signedDistance(object.centre) < -kMinDepthBehindAnother)
+    if (j != index && objects[j].signedDistance(object.centre) < -kMinDepthBehindAnother &&
+        std::fabs(objects[j].signedDistance(origin)) >= kMinSeenThroughPlaneDistance)
       cones.emplace_back(objects[j], origin, plane_threshold, reach);
   std::size_t behind = 0;
   for (const PointRef& ref : object.surface_inliers)

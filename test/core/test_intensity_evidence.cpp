@@ -5,6 +5,7 @@
 
 #include "ohm_mirror_detector3d/core/intensity_evidence.h"
 #include "ohm_mirror_detector3d/core/stage_configs.h"
+#include "ohm_mirror_detector3d/core/vision_cone.h"
 
 namespace ohm_mirror_detector3d
 {
@@ -333,6 +334,36 @@ TEST(IntensityEvidence, AFragmentJustOffTheObjectsPlaneDoesNotHideIt)
   ASSERT_GT(patch.signedDistance(haze.centre), -core::kMinDepthBehindAnother);
 
   std::vector<core::ReflectiveObject> objects{ haze, patch };
+  runStage(sweep, objects);
+  EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
+  EXPECT_TRUE(objects[0].intensity.typed);
+}
+
+TEST(IntensityEvidence, AnObjectWhosePlanePassesNextToTheSensorHidesNothing)
+{
+  const core::Sweep sweep = hazeSweep();
+  const core::ReflectiveObject haze = hazeObject();
+
+  // A mirror 0.7 m away whose plane passes 4 cm from the sensor, seen edge-on: grown by the
+  // reach, its rectangle takes in the part of its plane beside the sensor, through which every
+  // ray to the object crosses it. Nothing is seen through a plane from that close.
+  core::ReflectiveObject edge_on = object(core::ObjectType::mirror);
+  const Eigen::Vector3f normal(-0.6f, 0.8f, 0.0f);
+  edge_on.plane = Eigen::Vector4f(normal.x(), normal.y(), normal.z(), 0.04f);
+  edge_on.centre = Eigen::Vector3f(0.6f, 0.4f, 0.0f);
+  edge_on.width_axis = Eigen::Vector3f(0.8f, 0.6f, 0.0f);
+  edge_on.width = 0.5f;
+  edge_on.height = 0.7f;
+  ASSERT_NEAR(edge_on.signedDistance(edge_on.centre), 0.0f, 1e-6f);
+  ASSERT_LT(edge_on.signedDistance(haze.centre), -core::kMinDepthBehindAnother);
+  ASSERT_LT(edge_on.signedDistance(Eigen::Vector3f::Zero()), core::kMinSeenThroughPlaneDistance);
+  ASSERT_EQ(core::locateInCone(edge_on, Eigen::Vector3f::Zero(), sweep.echoes[0].points[200], config().plane_threshold,
+                               config().reach)
+                .relation,
+            core::ConeRelation::behind)
+      << "the grown cone holds the object's echoes";
+
+  std::vector<core::ReflectiveObject> objects{ haze, edge_on };
   runStage(sweep, objects);
   EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
   EXPECT_TRUE(objects[0].intensity.typed);
