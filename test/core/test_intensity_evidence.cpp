@@ -434,6 +434,24 @@ TEST(IntensityEvidence, ShinyMetalIsAMirrorWhereTheGeometrySaidGlassOrNothing)
   EXPECT_FALSE(objects[3].intensity.diffuse_reflector) << "the geometry's mirror needs no rule";
 }
 
+TEST(IntensityEvidence, ShinyMetalWithFourFifthsOfItsEchoesBackedAndSomeMergedIsAMirror)
+{
+  // Stop 50: metal panels whose bright echoes have a reflection behind for 76-85 % of them, and
+  // whose points behind have their surface echo in front for 76-89 % (merged echoes), were left
+  // glass by the old thresholds (0.85 and 0.9).
+  std::vector<std::pair<Echo, Echo>> beams;
+  addWalls(beams, 200);
+  addShinyMetal(beams, 24);
+  const core::Sweep sweep = sweepOf(beams);
+  core::ReflectiveObject panel = geometricGlass(0, 0, 220);
+  panel.evidence.surface_backed_share = 0.8f;
+  std::vector<core::ReflectiveObject> objects{ panel };
+  runStage(sweep, objects);
+  EXPECT_NEAR(objects[0].intensity.bright_backed_share, 0.8f, 1e-6f);
+  EXPECT_EQ(objects[0].type, core::ObjectType::mirror);
+  EXPECT_TRUE(objects[0].intensity.diffuse_reflector);
+}
+
 TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABrightSurfaceNeedsReflectionsBehind)
 {
   std::vector<std::pair<Echo, Echo>> beams;
@@ -472,14 +490,14 @@ TEST(IntensityEvidence, GlassSeenThroughOrTypedByDimPhantomsStaysGlassAndABright
   EXPECT_FALSE(core::diffuseReflector(objects[0]));
   EXPECT_EQ(objects[0].type, core::ObjectType::glass);
 
-  // Under 85 % of the bright echoes with a reflection behind (a wall in the plane, a frame): no rule.
+  // Under 75 % of the bright echoes with a reflection behind (a wall in the plane, a frame): no rule.
   std::vector<std::pair<Echo, Echo>> framed;
   addWalls(framed, 200);
-  addShinyMetal(framed, 25);
+  addShinyMetal(framed, 22);
   const core::Sweep framed_sweep = sweepOf(framed);
   objects = { analysed(), geometricGlass(0, 0, 220) };
   runStage(framed_sweep, objects);
-  EXPECT_NEAR(objects[0].intensity.bright_backed_share, 25.0f / 30.0f, 1e-6f);
+  EXPECT_NEAR(objects[0].intensity.bright_backed_share, 22.0f / 30.0f, 1e-6f);
   EXPECT_FALSE(core::diffuseReflector(objects[0].intensity));
   EXPECT_NE(objects[0].type, core::ObjectType::mirror);
   EXPECT_EQ(objects[1].type, core::ObjectType::glass);

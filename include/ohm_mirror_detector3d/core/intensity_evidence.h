@@ -117,7 +117,12 @@ constexpr std::size_t kMinFeatureEchoes = 5;
 // scenes 7000-7024.
 constexpr std::size_t kMinDiffuseReflectorEchoes = 20;
 constexpr float kDiffuseReflectorShare = 0.9f;
-constexpr float kDiffuseReflectorBackedShare = 0.85f;
+// Since stop 50 0.75 (was 0.85): the panels' backed shares measured above (>= 76 % for 59 of 62).
+// On held-out random scenes 42000-45024 (all families, 400 sweeps) with the surface-backed share
+// below also at 0.75: four metal panels typed mirror that were glass (1614 double-echo phantoms
+// at a wrong place fewer: hokuyo and velodyne random_42017, ouster random_42010, velodyne
+// random_45016), no object the other way, no real point moved; make evaluate unchanged.
+constexpr float kDiffuseReflectorBackedShare = 0.75f;
 // Mixed pixels along a depth edge (the top of a cabinet: the near echo on its edge, the far one on
 // the wall behind) are bright and backed too, but make a strip, not a panel: the rule needs a
 // rectangle at least this wide both ways. Measured on random scenes 7000-7024: four such strips
@@ -131,7 +136,9 @@ constexpr float kMinDiffuseReflectorSide = 0.3f;
 // Measured (random scenes 6000-6029 and 7000-7024): 98 of 103 metal panels at least 0.9 (the rest
 // 0.73-0.86, with many merged echoes); a 3.6 x 1.8 m rectangle over a window of the 32-ring lidar
 // whose off-peak echoes were 98 % bright and 96 % backed (its frame and the wall around it), 0.68.
-constexpr float kDiffuseReflectorSurfaceBackedShare = 0.9f;
+// Since stop 50 0.75 (was 0.9; see kDiffuseReflectorBackedShare): between that window and most of
+// the panels below 0.9.
+constexpr float kDiffuseReflectorSurfaceBackedShare = 0.75f;
 // Glass stands against this rule when the points seen through it are more than this many times
 // those that landed on seen geometry or were not decided (a fence or a dusty pane: bright and
 // backed, but what lies behind it is seen).
