@@ -701,6 +701,18 @@ float normalErrorDeg(const ReflectiveObject& o, const Vector3f& expected)
   return std::acos(c) * 180.0f / kPi;
 }
 
+// The lattice of `r` at 1 cm, each sample moved along its beam by Gaussian range noise of 1.5 cm.
+Scene noisyLattice(const Rect& r, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.0f, 1.5f * kCm);
+  Scene scene;
+  scene.add(lattice(r, 1.0f * kCm, 0.0f));
+  for (Vector3f& p : scene.surface)
+    p += noise(rng) * p.normalized();
+  return scene;
+}
+
 TEST(ObjectExtraction, AStripNoWiderThanTheRangeNoiseFacesTheBeam)
 {
   // A pane's specular spot 2.8 m ahead seen by a few scan lines: three columns 1 cm apart, 41
@@ -713,13 +725,7 @@ TEST(ObjectExtraction, AStripNoWiderThanTheRangeNoiseFacesTheBeam)
   const Rect strip{ Vector3f(2.8f, 0.0f, 0.1f), -Vector3f::UnitY(), Vector3f::UnitZ(), 0.02f, 0.4f };
   for (unsigned seed = 1; seed <= 5; ++seed)
   {
-    std::mt19937 rng(seed);
-    std::normal_distribution<float> noise(0.0f, 1.5f * kCm);
-    Scene scene;
-    scene.add(lattice(strip, 1.0f * kCm, 0.0f));
-    for (Vector3f& p : scene.surface)
-      p += noise(rng) * p.normalized();
-    const std::vector<ReflectiveObject> objects = extract(scene, params);
+    const std::vector<ReflectiveObject> objects = extract(noisyLattice(strip, seed), params);
     ASSERT_EQ(objects.size(), 1u) << "seed " << seed;
     EXPECT_LT(normalErrorDeg(objects[0], Vector3f::UnitX()), 3.0f) << "seed " << seed;
     EXPECT_GT(objects[0].signedDistance(Vector3f::Zero()), 0.0f);
@@ -737,13 +743,7 @@ TEST(ObjectExtraction, APatchWideEnoughKeepsItsOwnPlaneAtGrazingIncidence)
   const Vector3f c(2.5f, 0.0f, 0.0f);
   const Vector3f n(-std::cos(a), -std::sin(a), 0.0f);  // the patch's normal, pointing back at 60 deg
   const Rect wide{ c, Vector3f::UnitZ().cross(n).normalized(), Vector3f::UnitZ(), 0.3f, 0.4f };
-  std::mt19937 rng(7);
-  std::normal_distribution<float> noise(0.0f, 1.5f * kCm);
-  Scene scene;
-  scene.add(lattice(wide, 1.0f * kCm, 0.0f));
-  for (Vector3f& p : scene.surface)
-    p += noise(rng) * p.normalized();
-  const std::vector<ReflectiveObject> objects = extract(scene, params);
+  const std::vector<ReflectiveObject> objects = extract(noisyLattice(wide, 7), params);
   ASSERT_EQ(objects.size(), 1u);
   EXPECT_LT(normalErrorDeg(objects[0], n), 3.0f);
   EXPECT_GT(normalErrorDeg(objects[0], Vector3f::UnitX()), 50.0f);

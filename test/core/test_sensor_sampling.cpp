@@ -208,20 +208,25 @@ TEST(RemovalReport, SmallSharesAndTinySweepsAreNotJudged)
   EXPECT_EQ(core::implausibleRemovals(counts).size(), 1u);
 }
 
+// A first return of `ring` at `azimuth_deg`, `range` metres away (10 cm higher a ring).
+void addFirstReturn(core::DualReturnInput& input, int ring, double azimuth_deg, double range)
+{
+  const double azimuth = azimuth_deg * kPi / 180.0;
+  input.points.points.emplace_back(static_cast<float>(range * std::cos(azimuth)),
+                                   static_cast<float>(range * std::sin(azimuth)), static_cast<float>(ring) * 0.1f);
+  input.points.intensities.push_back(0.0f);
+  input.returns.push_back(1);
+  input.rings.push_back(ring);
+}
+
 TEST(DualReturnAzimuth, TheStepIsWorkedOutFromARing)
 {
   core::DualReturnInput input;
   for (int ring = 0; ring < 4; ++ring)
     for (int column = 0; column < 600; ++column)
     {
-      if (column % 7 == 3)
-        continue;  // firings without a return leave wider gaps
-      const double azimuth = column * 0.6 * kPi / 180.0;
-      input.points.points.emplace_back(static_cast<float>(5.0 * std::cos(azimuth)),
-                                       static_cast<float>(5.0 * std::sin(azimuth)), static_cast<float>(ring) * 0.1f);
-      input.points.intensities.push_back(0.0f);
-      input.returns.push_back(1);
-      input.rings.push_back(ring);
+      if (column % 7 != 3)  // firings without a return leave wider gaps
+        addFirstReturn(input, ring, column * 0.6, 5.0);
     }
   EXPECT_NEAR(core::estimateAzimuthStepDeg(input), 0.6, 1e-9);
   core::Sweep sweep;
@@ -240,14 +245,7 @@ TEST(DualReturnAzimuth, ARingThatReturnsFromAThirdOfTheRotationKeepsItsStep)
   const double step = 360.0 / 2048.0;
   for (int ring = 0; ring < 8; ++ring)
     for (int column = 100; column < 800; ++column)
-    {
-      const double azimuth = column * step * kPi / 180.0;
-      input.points.points.emplace_back(static_cast<float>(3.0 * std::cos(azimuth)),
-                                       static_cast<float>(3.0 * std::sin(azimuth)), static_cast<float>(ring) * 0.1f);
-      input.points.intensities.push_back(0.0f);
-      input.returns.push_back(1);
-      input.rings.push_back(ring);
-    }
+      addFirstReturn(input, ring, column * step, 3.0);
   EXPECT_NEAR(core::estimateAzimuthStepDeg(input), step, 1e-9);
   core::Sweep sweep;
   const core::DualReturnStats stats = core::binDualReturns(input, core::kAzimuthStepFromCloud, sweep);
@@ -262,14 +260,7 @@ TEST(DualReturnAzimuth, ReturnsBunchedIntoASmallArcMakeNoHugeGrid)
   core::DualReturnInput input;
   for (int ring = 0; ring < 4; ++ring)
     for (int k = 0; k < 1000; ++k)
-    {
-      const double azimuth = k * 0.001 * kPi / 180.0;
-      input.points.points.emplace_back(static_cast<float>(3.0 * std::cos(azimuth)),
-                                       static_cast<float>(3.0 * std::sin(azimuth)), static_cast<float>(ring) * 0.1f);
-      input.points.intensities.push_back(0.0f);
-      input.returns.push_back(1);
-      input.rings.push_back(ring);
-    }
+      addFirstReturn(input, ring, k * 0.001, 3.0);
   core::Sweep sweep;
   core::binDualReturns(input, core::kAzimuthStepFromCloud, sweep);
   EXPECT_LE(sweep.cols, 8000u);
