@@ -139,6 +139,7 @@ bool faintReflectionInGrownPane(const ReflectiveObject& object, const Eigen::Vec
 // more lost. Without the rectangle's condition, a pane's own haze seen at 1.7 m (the 32-ring
 // lidar's random_43009, 2876 points) and a mirror typed glass lost their surface echoes.
 constexpr float kMaxSpecularIncidenceDeg = 30.0f;
+const float kMaxSpecularIncidenceCosine = std::cos(kMaxSpecularIncidenceDeg * static_cast<float>(M_PI) / 180.0f);
 constexpr float kMinObliqueFaintShare = 0.5f;
 
 // The cosine of the smallest incidence on the object's rectangle from `origin`: at the
@@ -157,9 +158,8 @@ float largestIncidenceCosine(const ReflectiveObject& object, const Eigen::Vector
 
 bool obliqueFaintSurface(const ReflectiveObject& object, const Eigen::Vector3f& origin)
 {
-  const float max_cosine = std::cos(kMaxSpecularIncidenceDeg * static_cast<float>(M_PI) / 180.0f);
   return object.type == ObjectType::glass && object.intensity.faint_share >= kMinObliqueFaintShare &&
-         object.intensity.reference > 0.0f && largestIncidenceCosine(object, origin) < max_cosine;
+         object.intensity.scale.reference > 0.0f && largestIncidenceCosine(object, origin) < kMaxSpecularIncidenceCosine;
 }
 
 // Whether an echo on an oblique faint surface's plane is one of its faint reflections: beyond the
@@ -172,11 +172,8 @@ bool faintObliqueEcho(const ReflectiveObject& object, const Eigen::Vector3f& p, 
   if (!(range > 0.0f) || !std::isfinite(intensity))
     return false;
   const float cosine = std::fabs(object.plane.head<3>().dot(d)) / range;
-  if (!(cosine < std::cos(kMaxSpecularIncidenceDeg * static_cast<float>(M_PI) / 180.0f)))
-    return false;
-  const float signal = object.intensity.range_compensated ? intensity / (range * range) : intensity;
-  const float lit = signal * range * range / object.intensity.reference / std::max(cosine, 1e-3f);
-  return lit < kFaint;
+  return cosine < kMaxSpecularIncidenceCosine &&
+         normalisedBrightness(object.intensity.scale, intensity, range, cosine) < kFaint;
 }
 
 // Two objects in one plane (3 deg, 10 cm at the second's centre): two detections of one pane.

@@ -176,8 +176,7 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
   const float reference = scale.reference;
   if (!sweep.has_intensity || !(reference > 0.0f))
     return out;
-  out.reference = reference;
-  out.range_compensated = scale.range_compensated;
+  out.scale = scale;
   const OnObject on_object{ object, config.plane_threshold };
   const Eigen::Vector3f normal = object.plane.head<3>();
   const float cos_off_peak = std::cos(kOffPeakDeg * static_cast<float>(M_PI) / 180.0f);
@@ -193,7 +192,7 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
   };
   auto take = [&](const EchoCloud& echo, std::size_t beam, Role role) {
     const float range = echo.ranges[beam];
-    const float intensity = scale.signal(echo.intensities[beam], range);
+    const float intensity = echo.intensities[beam];
     if (!(range > 0.0f) || !std::isfinite(intensity))
       return;
     ++out.echoes;
@@ -201,7 +200,7 @@ IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& s
     if (cos_incidence >= cos_off_peak)
       return;
     ++out.off_peak;
-    const float lit = intensity * range * range / reference / std::max(cos_incidence, 1e-3f);
+    const float lit = normalisedBrightness(scale, intensity, range, cos_incidence);
     if (lit >= kFaintMin && lit < kFaint)
       faint.push_back(lit);
     if (lit >= kFaint)

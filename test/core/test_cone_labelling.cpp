@@ -1217,7 +1217,7 @@ labelObliqueLayer(core::ReflectiveObject& object)
   for (std::size_t i = 0; i < beams.size(); ++i)
     for (std::size_t k = 0; k < 2; ++k)
       sweep.echoes[k].intensities[i] = (i % 2 == 0 ? 5.0f : 2000.0f) / sweep.echoes[k].points[i].squaredNorm();
-  object.intensity.reference = 1000.0f;
+  object.intensity.scale.reference = 1000.0f;
   std::vector<core::ReflectiveObject> objects{ object };
   const Labelled out =
       label(sweep, objects, std::vector<std::pair<Label, Label>>(beams.size(), { Label::errorSurface, Label::error }));

@@ -29,6 +29,7 @@
 #include "ohm_mirror_detector3d/core/object_stage.h"
 #include "ohm_mirror_detector3d/core/object_type.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace ohm_mirror_detector3d
@@ -96,6 +97,13 @@ constexpr float kMinSeenThroughPlaneDistance = 0.2f;
 
 constexpr float kOffPeakDeg = 5.0f;
 constexpr float kFaint = 0.1f;
+// An echo's brightness against the sweep's reference, over the cosine of its incidence on the
+// object's plane (never under 1e-3): a wall's diffuse echo is about 1, a mirror's haze about 0.02,
+// an echo under kFaint is faint. NaN without a reference or an intensity.
+inline float normalisedBrightness(const IntensityScale& scale, float intensity, float range, float cos_incidence)
+{
+  return scale.signal(intensity, range) * range * range / scale.reference / std::max(cos_incidence, 1e-3f);
+}
 constexpr float kFaintMin = 0.004f;
 constexpr std::size_t kMinFeatureEchoes = 5;
 
@@ -174,25 +182,7 @@ constexpr std::size_t kSeenThroughLeaningDominance = 2;
 // intensity (a median needs no more).
 constexpr std::size_t kReferenceStride = 7;
 
-// How a sweep's intensities relate to the model's raw signal.
-struct IntensityScale
-{
-  // Median raw signal * range^2 over the sampled returns (NaN: none).
-  float reference = std::numeric_limits<float>::quiet_NaN();
-  // The intensities do not fall with range: a calibrated reflectivity. Told per sweep from the
-  // same returns: over a room of mixed surfaces and ranges, the raw signal * range^2 varies less
-  // than the raw signal itself (median absolute deviation of the log, 0.09-0.17 against
-  // 0.12-0.46 decades in random scenes of all four simulated sensors), a reflectivity the other
-  // way round.
-  bool range_compensated = false;
-
-  // The raw signal the model expects for an intensity at this range.
-  float signal(float intensity, float range) const
-  {
-    return range_compensated ? intensity / (range * range) : intensity;
-  }
-};
-
+// The sweep's IntensityScale (reflective_object.h).
 IntensityScale intensityScale(const Sweep& sweep);
 
 // Beams per block of the sweep block boxes (block_box.h) intensityFeatures skips blocks by.
