@@ -1,6 +1,5 @@
 #include "ohm_mirror_detector3d/ros/dual_return.h"
 
-#include <sstream>
 #include <vector>
 
 #include "ohm_mirror_detector3d/ros/conversions.h"
@@ -46,33 +45,6 @@ std::string dualReturnCloudToSweep(const sensor_msgs::PointCloud2& cloud, double
     return problem;
   stats = binner.bin(input, azimuth_resolution_deg, sweep);
   return "";
-}
-
-std::string describeUnbinned(const core::DualReturnStats& stats)
-{
-  if (stats.ring_out_of_range + stats.return_out_of_range + stats.duplicates == 0)
-    return "";
-  std::ostringstream text;
-  text << "labelled nanPoint (in no grid cell) " << stats.unbinned() << " of " << stats.points << " points:";
-  if (stats.ring_out_of_range > 0)
-    text << " " << stats.ring_out_of_range << " with a ring outside 0.." << core::kMaxRings - 1 << ";";
-  if (stats.return_out_of_range > 0)
-    text << " " << stats.return_out_of_range << " with a return index other than " << stats.return_base << " or "
-         << stats.return_base + 1 << " (only the first two returns are compared);";
-  if (stats.duplicates > 0)
-  {
-    text << " " << stats.duplicates << " sharing a ring and azimuth bin with another point of the same return";
-    if (stats.azimuth_from_cloud)
-      text << " (bins of " << stats.azimuth_resolution_deg
-           << " deg, the azimuth step worked out from the cloud: its firings are not evenly spaced; give "
-              "azimuth_resolution_deg);";
-    else
-      text << " (is azimuth_resolution_deg = " << stats.azimuth_resolution_deg
-           << " coarser than the lidar's azimuth step? Leave it unset to work it out from the cloud);";
-  }
-  if (stats.no_return > 0)
-    text << " " << stats.no_return << " without a return (non-finite or at the origin)";
-  return text.str();
 }
 
 }  // namespace ros_io

@@ -316,7 +316,7 @@ private:
         dualReturnCloudToSweep(cloud, azimuth_resolution_deg_, buffer_, binner_, sweep_, stats);
     if (!problem.empty())
       return reportDropped(sink, "sweep", topic_, problem);
-    const std::string unbinned = describeUnbinned(stats);
+    const std::string unbinned = core::describeUnbinned(stats);
     if (!unbinned.empty())
       sink.receiver.inputProblem(InputProblem{ false, "sweep", topic_, unbinned });
     sink.receiver.sweepReady(sweep_, toSweepContext(cloud.header));

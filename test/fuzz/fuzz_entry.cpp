@@ -223,7 +223,7 @@ FuzzOutcome runFuzzInput(const std::uint8_t* data, std::size_t size)
       problem = ros_io::dualReturnCloudToSweep(cloud, core::kAzimuthStepFromCloud, input, binner, pipeline.sweep(),
                                                stats);
       if (problem.empty())
-        ros_io::describeUnbinned(stats);
+        core::describeUnbinned(stats);
       break;
     }
     case FuzzMode::hokuyo3d_legacy:

@@ -273,6 +273,24 @@ def test_dual_return_keeps_the_input_order():
     assert again.labelled.tobytes() == r.labelled.tobytes()
 
 
+def test_points_binning_could_not_place_are_named_in_the_warnings():
+    from ohm_mirror_detector3d.dual_return_cloud import dual_return_arrays
+    lidar = scanner.DualReturnLidar(rings=64, azimuth_steps=1024, vertical_fov_deg=(-45.0, 45.0), range_noise=0.01)
+    cloud, _, _ = dual_return_arrays(simulate.simulate_sweep('experiment1', lidar, seed=1, physics=IDEAL))
+    # The step worked out from the cloud: every point has its cell, nothing worth a word.
+    fitting = core.Pipeline().filter_dual_return(cloud)
+    assert fitting.stats['unbinned_points'] == 0 and fitting.warnings == []
+    # Bins twice the lidar's step: half the points of every ring share a bin and are labelled
+    # nanPoint; the Python caller is told so, as the node's log says it, with the parameter.
+    coarse = core.Pipeline(azimuth_resolution_deg=2 * 360.0 / 1024).filter_dual_return(cloud)
+    lost = coarse.stats['unbinned_points']
+    assert lost > 0.3 * len(cloud)
+    assert int(np.sum(coarse.labels == Label.NAN_POINT)) >= lost
+    warning, = [w for w in coarse.warnings if w.startswith('dual_return: ')]
+    assert ('labelled nanPoint (in no grid cell) %d of %d points' % (lost, len(cloud))) in warning
+    assert 'azimuth_resolution_deg' in warning
+
+
 def test_the_echo_separation_is_what_the_sensor_resolves():
     # The simulated 64-ring lidar resolves echoes 0.9 m apart (scanner.PRESETS, as SENSORS.md says
     # of the real one); its range noise (3 cm, 3 sigma) blurs that a little. A scene with glass

@@ -112,10 +112,10 @@ TEST(DualReturnCloud, UnbinnedPointsAreDescribedWithTheirReasons)
   stats.points = 10;
   stats.no_return = 3;
   stats.azimuth_resolution_deg = 0.2;
-  EXPECT_EQ(ros_io::describeUnbinned(stats), "");  // non-finite points are normal
+  EXPECT_EQ(core::describeUnbinned(stats), "");  // non-finite points are normal
   stats.duplicates = 2;
   stats.return_out_of_range = 1;
-  const std::string text = ros_io::describeUnbinned(stats);
+  const std::string text = core::describeUnbinned(stats);
   EXPECT_NE(text.find("6 of 10 points"), std::string::npos) << text;
   EXPECT_NE(text.find("2 sharing a ring and azimuth bin"), std::string::npos) << text;
   EXPECT_NE(text.find("azimuth_resolution_deg = 0.2"), std::string::npos) << text;

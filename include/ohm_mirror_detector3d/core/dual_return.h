@@ -89,6 +89,12 @@ double estimateAzimuthStepDeg(const DualReturnInput& input);
 // DualReturnBinner does the same with buffers it keeps from cloud to cloud.
 DualReturnStats binDualReturns(const DualReturnInput& input, double azimuth_resolution_deg, Sweep& sweep);
 
+// A sentence about the points that binning could not place (rings or return indices out of
+// range, points sharing a cell), or an empty string when there are none worth a warning
+// (non-finite points are normal, REP-117). The node warns with it, the Python bindings put it
+// in stats["warnings"].
+std::string describeUnbinned(const DualReturnStats& stats);
+
 class DualReturnBinner
 {
 public:

@@ -34,10 +34,6 @@ std::string dualReturnCloudToSweep(const sensor_msgs::PointCloud2& cloud, double
                                    core::DualReturnInput& input, core::DualReturnBinner& binner, core::Sweep& sweep,
                                    core::DualReturnStats& stats);
 
-// A sentence about the points that binning could not place (rings or return indices out of
-// range, points sharing a cell), or an empty string when there are none worth a warning
-// (non-finite points are normal, REP-117).
-std::string describeUnbinned(const core::DualReturnStats& stats);
 
 }  // namespace ros_io
 }  // namespace ohm_mirror_detector3d
