@@ -76,11 +76,22 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
     return depth > kMinFaintDepth && depth <= config_.min_depth &&
            faintAsMergedReflection(host, p, sweep.echoes[ref.echo].intensities[ref.beam], origin);
   };
+  // Just behind a pane (kMinFaintDepth .. min_depth), where landing proves nothing, an echo may
+  // still be a surface seen through it: its beam's far echo, further behind, tells (below). Not
+  // behind an object whose type nothing decided: such a host is most often no surface at all
+  // (random scene 46017, 32-ring lidar: unknown specks took real surfaces behind them).
+  auto seenThroughJustBehind = [&](const PointRef& ref) {
+    if (!host_is_pane || !may_be_seen_through || ref.echo > 1)
+      return false;
+    const float depth = -host.signedDistance(sweep.echoes[ref.echo].points[ref.beam]);
+    return depth > kMinFaintDepth && depth <= config_.min_depth;
+  };
   // An echo with a grid cell (an input point without one is not in the direction index) at least
-  // min_depth behind the host's plane, or faint just behind a pane.
+  // min_depth behind the host's plane, or faint just behind a pane, or just behind it at all when
+  // it may be seen through it.
   auto behindHost = [&](const PointRef& ref) {
     return ref.echo <= 1 && (host.signedDistance(sweep.echoes[ref.echo].points[ref.beam]) < -config_.min_depth ||
-                             faintJustBehind(ref));
+                             faintJustBehind(ref) || seenThroughJustBehind(ref));
   };
   std::size_t behind = 0;
   for (std::size_t i = 0; i < echoes.size(); i += stride)
@@ -116,6 +127,29 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
            evidence.test(host.plane, far, host.landing_tolerance).outcome != ReflectionOutcome::phantom &&
            evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom;
   };
+  // The far echo of a beam whose near echo lies behind the host, itself behind both planes.
+  auto farBehindBoth = [&](const Eigen::Vector3f& far) {
+    return may_be_seen_through && far.allFinite() && object.signedDistance(far) < -config_.min_depth &&
+           host.signedDistance(far) < -config_.min_depth;
+  };
+  // Such a far echo landing when reflected across the host's plane: the host's reflection.
+  auto farIsHostsPhantom = [&](const Eigen::Vector3f& far) {
+    return farBehindBoth(far) &&
+           evidence.test(host.plane, far, host.landing_tolerance).outcome == ReflectionOutcome::phantom;
+  };
+  // For a near echo just behind a pane: its far echo lands across the pane, on what the sensor saw
+  // or on a surface the pane maps onto itself (a floor, a side wall: as often as not where such a
+  // wall stands behind a partition), and not on what the sensor saw across the object's own plane.
+  // Random scene 46008, rotating Hokuyo: a wall 0.17 m behind a partition's pane, seen through it,
+  // had 74 of its far echoes land on such surfaces, 250 on what they show.
+  auto farShowsSeenThroughJustBehind = [&](const Eigen::Vector3f& far) {
+    if (!farBehindBoth(far))
+      return false;
+    const ReflectionOutcome across_host = evidence.test(host.plane, far, host.landing_tolerance).outcome;
+    if (across_host != ReflectionOutcome::phantom && across_host != ReflectionOutcome::ambiguous)
+      return false;
+    return evidence.test(object.plane, far, object.landing_tolerance).outcome != ReflectionOutcome::phantom;
+  };
   // The sample is visited in kPasses interleaved passes, each spread over the whole object: after
   // the first, a pair whose share there is under half of min_share is given up (most pairs tested
   // are no pair at all: random scene 29 on the 32-ring lidar, 30 objects, 220 pairs behind one
@@ -138,20 +172,19 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
       const Eigen::Vector3f& p = sweep.echoes[ref.echo].points[ref.beam];
       --left;
       ++tested;
-      if (host.signedDistance(p) >= -config_.min_depth)
-      {
-        ++faint;  // let in by faintJustBehind: behind a pane, where may_be_phantoms holds
-        continue;
-      }
       // A real surface echo behind the host whose beam's far echo (behind both planes) is the
       // host's reflection and not the object's own was seen through the host. The tests are asked
       // in the order that spares the most: the far echo's against the host fails most often.
       const Eigen::Vector3f& far = sweep.echoes[1 - ref.echo].points[ref.beam];
-      const bool far_behind = may_be_seen_through && far.allFinite() &&
-                              object.signedDistance(far) < -config_.min_depth &&
-                              host.signedDistance(far) < -config_.min_depth;
-      const bool far_is_hosts_phantom =
-          far_behind && evidence.test(host.plane, far, host.landing_tolerance).outcome == ReflectionOutcome::phantom;
+      if (host.signedDistance(p) >= -config_.min_depth)
+      {
+        if (faintJustBehind(ref))
+          ++faint;  // behind a pane, where may_be_phantoms holds
+        else if (farShowsSeenThroughJustBehind(far))
+          ++seen_through;
+        continue;
+      }
+      const bool far_is_hosts_phantom = farIsHostsPhantom(far);
       if (!may_be_phantoms && !far_is_hosts_phantom)
         continue;
       const ReflectionTest near = evidence.test(host.plane, p, host.landing_tolerance);

@@ -30,7 +30,11 @@
 // Just behind a pane (nearer than min_depth) landing proves nothing: reflected across a plane it
 // nearly lies on, an echo lands next to itself. There an echo counts as the pane's reflection by
 // its brightness: fainter than a quarter of what the pane lets through, as a merged echo is
-// (merged_echoes.h). Pairs shown that way are assigned after the pairs that geometry shows.
+// (merged_echoes.h). Pairs shown that way are assigned after the pairs that geometry shows. An
+// echo there that is not faint may still be a surface seen through the pane (a wall right behind a
+// partition's next pane): its beam's far echo says so, as above, when it lands across the pane
+// (on what it shows, or on a floor or side wall the pane maps onto itself) and not across the
+// object's own plane.
 //
 // The pipeline runs the stage twice: before growth, and after it on the hosts growth grew only
 // (PhantomPlaneConfig::grown_hosts_only), whose faint phantom planes are bounded by the grown
