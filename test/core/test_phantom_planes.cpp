@@ -234,12 +234,13 @@ TEST(PhantomPlanes, APointBeyondAPhantomPlaneIsNoPhantomOfItsObject)
 }
 
 // The wall seen through a reflecting pane: a pane at x = kMirror (its near-perpendicular patch
-// gives surface echoes) reflects the back wall and lets the sensor see a wall at x = kSeenWall. Up
-// and to the side of the patch, where the transmitted path is the shorter, a beam's near echo lies
-// on that wall and its far echo is the back wall's phantom at x = kPhantomWall.
+// gives surface echoes) reflects the back wall and lets the sensor see a wall at x = seen_wall
+// (kSeenWall, or just behind the pane). Up and to the side of the patch, where the transmitted
+// path is the shorter, a beam's near echo lies on that wall and its far echo is the back wall's
+// phantom at x = kPhantomWall.
 constexpr float kSeenWall = 3.0f;
 
-core::Sweep seenThroughSweep(float seen_wall = kSeenWall)
+core::Sweep seenThroughSweep(float seen_wall)
 {
   core::Sweep sweep = sweepOf(mirrorRoom());
   for (std::size_t b = 0; b < sweep.beamCount(); ++b)
@@ -255,36 +256,67 @@ core::Sweep seenThroughSweep(float seen_wall = kSeenWall)
   return sweep;
 }
 
-TEST(PhantomPlanes, AWallSeenThroughAPaneIsHandedToThePaneAndItsFarEchoesAreThePanesPhantoms)
+// The pane at kMirror (its 0.1 m patch) and the wall at `distance` seen through it, objects of
+// seenThroughSweep(distance)'s echoes as object extraction would have fitted them.
+struct PaneAndWall
 {
-  const core::Sweep sweep = seenThroughSweep();
-  const core::ReflectiveObject pane = objectOfEchoes(sweep, kMirror, 0.0f, 0.0f, 0.1f, ObjectType::glass);
-  // The near echoes on the wall behind: more than max_echo_ratio times the pane's (no phantom plane
-  // could be that much larger than its pane's patch; a surface seen through it can).
-  const core::ReflectiveObject wall = objectOfEchoes(sweep, kSeenWall, 1.0f, 0.5f, 0.6f, ObjectType::glass);
-  ASSERT_GE(pane.surface_inliers.size(), 20u);
-  ASSERT_GE(wall.surface_inliers.size(), 4 * pane.surface_inliers.size());
+  explicit PaneAndWall(float wall_distance)
+    : distance(wall_distance)
+    , sweep(seenThroughSweep(wall_distance))
+    , pane(objectOfEchoes(sweep, kMirror, 0.0f, 0.0f, 0.1f, ObjectType::glass))
+    , wall(objectOfEchoes(sweep, wall_distance, 1.0f, 0.5f, 0.6f, ObjectType::glass))
+    , detected(sweep)
+  {
+  }
 
-  const test::Detected detected(sweep);
-  const core::PhantomPlanes stage(phantomPlaneConfig());
-  const core::PhantomPlanes::Shares shares = stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, wall, pane);
+  core::PhantomPlanes::Shares shares(const core::ReflectiveObject& object, const core::ReflectiveObject& host) const
+  {
+    return core::PhantomPlanes(phantomPlaneConfig()).shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, object, host);
+  }
+
+  float distance;
+  core::Sweep sweep;
+  core::ReflectiveObject pane, wall;
+  test::Detected detected;
+};
+
+// The wall's sample was seen through the pane (none of it the pane's phantoms), and the stage hands
+// the wall to the pane as a surface seen through it.
+void expectSeenThroughThePane(const PaneAndWall& scene)
+{
+  const core::PhantomPlanes::Shares shares = scene.shares(scene.wall, scene.pane);
   EXPECT_GE(shares.seen_through, 0.9f);
   EXPECT_LE(shares.phantom, 0.0f);
-  // The pane is seen through nothing; nothing is seen through a mirror.
-  EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, pane, wall).seen_through, 0.0f);
-  core::ReflectiveObject mirror = pane;
-  mirror.type = ObjectType::mirror;
-  EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, wall, mirror).seen_through, 0.0f);
-  // An object typed mirror showed reflections of its own: it is no wall seen through another.
-  core::ReflectiveObject shiny = wall;
-  shiny.type = ObjectType::mirror;
-  EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, shiny, pane).seen_through, 0.0f);
-
-  std::vector<core::ReflectiveObject> objects = afterStage(sweep, { wall, pane });
+  const std::vector<core::ReflectiveObject> objects = afterStage(scene.sweep, { scene.wall, scene.pane });
   ASSERT_EQ(objects.size(), 1u);
   EXPECT_TRUE(objects[0].phantom_planes.empty());
   ASSERT_EQ(objects[0].seen_through_surfaces.size(), 1u);
-  EXPECT_NEAR(objects[0].seen_through_surfaces[0].centre.x(), kSeenWall, 1e-4f);
+  EXPECT_NEAR(objects[0].seen_through_surfaces[0].centre.x(), scene.distance, 1e-4f);
+}
+
+TEST(PhantomPlanes, AWallSeenThroughAPaneIsHandedToThePaneAndItsFarEchoesAreThePanesPhantoms)
+{
+  const PaneAndWall scene(kSeenWall);
+  const core::Sweep& sweep = scene.sweep;
+  const core::ReflectiveObject& pane = scene.pane;
+  // The near echoes on the wall behind: more than max_echo_ratio times the pane's (no phantom plane
+  // could be that much larger than its pane's patch; a surface seen through it can).
+  const core::ReflectiveObject& wall = scene.wall;
+  ASSERT_GE(pane.surface_inliers.size(), 20u);
+  ASSERT_GE(wall.surface_inliers.size(), 4 * pane.surface_inliers.size());
+  expectSeenThroughThePane(scene);
+  // The pane is seen through nothing; nothing is seen through a mirror.
+  EXPECT_LE(scene.shares(pane, wall).seen_through, 0.0f);
+  core::ReflectiveObject mirror = pane;
+  mirror.type = ObjectType::mirror;
+  EXPECT_LE(scene.shares(wall, mirror).seen_through, 0.0f);
+  // An object typed mirror showed reflections of its own: it is no wall seen through another.
+  core::ReflectiveObject shiny = wall;
+  shiny.type = ObjectType::mirror;
+  EXPECT_LE(scene.shares(shiny, pane).seen_through, 0.0f);
+
+  const test::Detected& detected = scene.detected;
+  std::vector<core::ReflectiveObject> objects = afterStage(sweep, { wall, pane });
 
   // Labelled against the pane: the wall's points are seen through it (kept), the beams' far echoes
   // are its phantoms (back-projected across it).
@@ -309,28 +341,15 @@ TEST(PhantomPlanes, AWallSeenThroughAPaneIsHandedToThePaneAndItsFarEchoesAreTheP
 // partition's reflections for points seen through it (7931 double-echo phantoms at a wrong place).
 TEST(PhantomPlanes, AWallJustBehindAPaneIsSeenThroughItByItsFarEchoes)
 {
-  const float just_behind = kMirror + 0.18f;
-  const core::Sweep sweep = seenThroughSweep(just_behind);
-  const core::ReflectiveObject pane = objectOfEchoes(sweep, kMirror, 0.0f, 0.0f, 0.1f, ObjectType::glass);
-  const core::ReflectiveObject wall = objectOfEchoes(sweep, just_behind, 1.0f, 0.5f, 0.6f, ObjectType::glass);
-  ASSERT_LT(just_behind - kMirror, phantomPlaneConfig().min_depth);
-  ASSERT_GE(wall.surface_inliers.size(), 4 * pane.surface_inliers.size());
-
-  const test::Detected detected(sweep);
-  const core::PhantomPlanes stage(phantomPlaneConfig());
-  const core::PhantomPlanes::Shares shares = stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, wall, pane);
-  EXPECT_GE(shares.seen_through, 0.9f);
-  EXPECT_LE(shares.phantom, 0.0f);
+  const PaneAndWall scene(kMirror + 0.18f);
+  ASSERT_LT(scene.distance - kMirror, phantomPlaneConfig().min_depth);
+  ASSERT_GE(scene.wall.surface_inliers.size(), 4 * scene.pane.surface_inliers.size());
+  expectSeenThroughThePane(scene);
   // Only a pane is looked through this close: behind an object whose type nothing decided (most
   // often no reflecting surface at all) the far echoes' landing is no evidence.
-  core::ReflectiveObject undecided = pane;
+  core::ReflectiveObject undecided = scene.pane;
   undecided.type = ObjectType::unknown;
-  EXPECT_LE(stage.shares(sweep, Eigen::Vector3f::Zero(), detected.evidence, wall, undecided).seen_through, 0.0f);
-
-  std::vector<core::ReflectiveObject> objects = afterStage(sweep, { wall, pane });
-  ASSERT_EQ(objects.size(), 1u);
-  ASSERT_EQ(objects[0].seen_through_surfaces.size(), 1u);
-  EXPECT_NEAR(objects[0].seen_through_surfaces[0].centre.x(), just_behind, 1e-4f);
+  EXPECT_LE(scene.shares(scene.wall, undecided).seen_through, 0.0f);
 }
 
 // The hidden side of something between the sensor and a pane: a box stands 1.4 m from the sensor,
