@@ -36,6 +36,11 @@
 // (on what it shows, or on a floor or side wall the pane maps onto itself) and not across the
 // object's own plane.
 //
+// An echo behind a pane as bright as a wall is no reflection in it: where it lands on a surface,
+// that surface's normal comes from a ball of returns (ReflectionTestOptions::wide_normal), so
+// that a real panel on a wall that runs through a partition, landing on that same wall in front,
+// is not taken for the partition's image of it (phantom_planes.cpp).
+//
 // The pipeline runs the stage twice: before growth, and after it on the hosts growth grew only
 // (PhantomPlaneConfig::grown_hosts_only), whose faint phantom planes are bounded by the grown
 // rectangle rather than by the patch's surface echoes.
@@ -122,8 +127,10 @@ public:
   // Either share stops being counted once neither can reach min_share, or when the first of
   // kPasses interleaved passes over the sample finds under half of min_share (then both are below
   // min_share, not exact).
+  // `scale`: the sweep's intensity scale (intensityScale), or none.
   Shares shares(const Sweep& sweep, const Eigen::Vector3f& origin, const ReflectionEvidence& evidence,
-                const ReflectiveObject& object, const ReflectiveObject& host) const;
+                const ReflectiveObject& object, const ReflectiveObject& host,
+                const IntensityScale* scale = nullptr) const;
 
 private:
   PhantomPlaneConfig config_;
