@@ -159,6 +159,13 @@ IntensityScale intensityScale(const Sweep& sweep)
   return scale;
 }
 
+IntensityScale sweepIntensityScale(const Sweep& sweep, const std::vector<ReflectiveObject>& objects)
+{
+  if (!objects.empty() && objects.front().intensity.scale.reference > 0.0f)
+    return objects.front().intensity.scale;
+  return intensityScale(sweep);
+}
+
 IntensityFeatures intensityFeatures(const Sweep& sweep, const Eigen::Vector3f& sensor_origin,
                                     const ReflectiveObject& object, const IntensityScale& scale,
                                     const IntensityEvidenceConfig& config)
@@ -272,7 +279,7 @@ void IntensityEvidence::process(const Sweep& sweep, const SweepContext& context,
 {
   if (objects.empty() || !sweep.has_intensity)
     return;
-  const IntensityScale scale = intensityScale(sweep);
+  const IntensityScale scale = sweepIntensityScale(sweep, objects);
   // The type analysis's boxes of this sweep when the pipeline gave it (the same blocks).
   static_assert(ObjectTypeAnalyzer::kBlockBoxBeams == kIntensityBlockBeams, "the same blocks");
   const SweepBlockBoxes* block_boxes = type_analyzer_ ? type_analyzer_->blockBoxes(sweep) : nullptr;

@@ -234,8 +234,11 @@ void PhantomPlanes::process(const Sweep& sweep, const SweepContext& context, con
   if (count < 2)
     return;
   const Eigen::Vector3f origin = context.sensorOrigin();
-  const IntensityScale scale = sweep.has_intensity ? intensityScale(sweep) : IntensityScale();
+  const IntensityScale scale = sweep.has_intensity ? sweepIntensityScale(sweep, objects) : IntensityScale();
   const IntensityScale* known_scale = scale.reference > 0.0f ? &scale : nullptr;
+  // Left in the objects for the stages after this one (sweepIntensityScale).
+  for (ReflectiveObject& object : objects)
+    object.intensity.scale = scale;
   // (share, object, host, seen through, shown by brightness) of every pair at or above the share.
   std::vector<std::tuple<float, std::size_t, std::size_t, bool, bool>> pairs;
   for (std::size_t o = 0; o < count; ++o)
