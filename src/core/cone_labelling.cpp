@@ -167,13 +167,10 @@ bool obliqueFaintSurface(const ReflectiveObject& object, const Eigen::Vector3f& 
 bool faintObliqueEcho(const ReflectiveObject& object, const Eigen::Vector3f& p, float intensity,
                       const Eigen::Vector3f& origin)
 {
-  const Eigen::Vector3f d = p - origin;
-  const float range = d.norm();
-  if (!(range > 0.0f) || !std::isfinite(intensity))
-    return false;
-  const float cosine = std::fabs(object.plane.head<3>().dot(d)) / range;
-  return cosine < kMaxSpecularIncidenceCosine &&
-         normalisedBrightness(object.intensity.scale, intensity, range, cosine) < kFaint;
+  const Eigen::Vector3f normal = object.plane.head<3>();
+  // NaN (at the origin, no intensity) compares false.
+  return incidenceCosine(normal, p, origin) < kMaxSpecularIncidenceCosine &&
+         brightnessOnPlane(object.intensity.scale, normal, p, intensity, origin) < kFaint;
 }
 
 // Two objects in one plane (3 deg, 10 cm at the second's centre): two detections of one pane.

@@ -163,14 +163,8 @@ PhantomPlanes::Shares PhantomPlanes::shares(const Sweep& sweep, const Eigen::Vec
   // a pane's images of such walls were taken for real mirrors too (seed 46000: +2431; make
   // evaluate's random_7: +2614). False without intensities.
   auto asBrightAsAWall = [&](const Eigen::Vector3f& p, float intensity) {
-    if (scale == nullptr)
-      return false;
-    const Eigen::Vector3f ray = p - origin;
-    const float range = ray.norm();
-    if (!(range > 0.0f))
-      return false;
-    const float cosine = std::fabs(object.plane.head<3>().dot(ray)) / range;
-    return normalisedBrightness(*scale, intensity, range, cosine) >= kFaint;
+    // NaN (at the origin, no intensity) compares false.
+    return scale != nullptr && brightnessOnPlane(*scale, object.plane.head<3>(), p, intensity, origin) >= kFaint;
   };
   // The sample is visited in kPasses interleaved passes, each spread over the whole object: after
   // the first, a pair whose share there is under half of min_share is given up (most pairs tested

@@ -30,6 +30,7 @@
 #include "ohm_mirror_detector3d/core/object_type.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace ohm_mirror_detector3d
@@ -103,6 +104,24 @@ constexpr float kFaint = 0.1f;
 inline float normalisedBrightness(const IntensityScale& scale, float intensity, float range, float cos_incidence)
 {
   return scale.signal(intensity, range) * range * range / scale.reference / std::max(cos_incidence, 1e-3f);
+}
+// The cosine of the incidence, on a plane with unit `normal`, of the beam from `origin` to `p`
+// (0 for p at the origin).
+inline float incidenceCosine(const Eigen::Vector3f& normal, const Eigen::Vector3f& p, const Eigen::Vector3f& origin)
+{
+  const Eigen::Vector3f ray = p - origin;
+  const float range = ray.norm();
+  return range > 0.0f ? std::fabs(normal.dot(ray)) / range : 0.0f;
+}
+// The normalisedBrightness of the echo at `p` at its incidence on the plane with unit `normal`;
+// NaN for p at the origin or without an intensity.
+inline float brightnessOnPlane(const IntensityScale& scale, const Eigen::Vector3f& normal, const Eigen::Vector3f& p,
+                               float intensity, const Eigen::Vector3f& origin)
+{
+  const float range = (p - origin).norm();
+  if (!(range > 0.0f) || !std::isfinite(intensity))
+    return std::numeric_limits<float>::quiet_NaN();
+  return normalisedBrightness(scale, intensity, range, incidenceCosine(normal, p, origin));
 }
 constexpr float kFaintMin = 0.004f;
 constexpr std::size_t kMinFeatureEchoes = 5;

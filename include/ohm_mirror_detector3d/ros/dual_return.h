@@ -34,6 +34,5 @@ std::string dualReturnCloudToSweep(const sensor_msgs::PointCloud2& cloud, double
                                    core::DualReturnInput& input, core::DualReturnBinner& binner, core::Sweep& sweep,
                                    core::DualReturnStats& stats);
 
-
 }  // namespace ros_io
 }  // namespace ohm_mirror_detector3d
